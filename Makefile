@@ -1,0 +1,62 @@
+# polyhedral: non-convex polyhedral particles for LIGGGHTS.
+#   make            build build/lib/libpolyhedral.so and build/bin/liggghts-poly
+#   make install    copy them under $(PREFIX) (see Makefile.package)
+#   make test       build, then run the test suite
+include Makefile.package
+
+BUILD := build
+C_SOURCES := $(wildcard src/*.c)
+CXX_SOURCES := $(filter-out src/liggghts_poly_main.cpp,$(wildcard src/*.cpp))
+OBJECTS := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(C_SOURCES)) \
+           $(patsubst src/%.cpp,$(BUILD)/obj/%.o,$(CXX_SOURCES))
+LIBRARY := $(BUILD)/lib/libpolyhedral.so
+LAUNCHER := $(BUILD)/bin/liggghts-poly
+
+ifeq ($(CUDA),auto)
+  CUDA_ENABLED := $(if $(NVCC),on,off)
+else
+  CUDA_ENABLED := $(CUDA)
+endif
+ifeq ($(PRECISION),single)
+  PRECISION_DEFINE := -DPOLY_SINGLE_PRECISION
+endif
+
+DEFINES := $(MPI_DEFINES) $(PRECISION_DEFINE)
+CFLAGS := -std=c11 $(OPT) -fPIC -Wall -Wextra $(DEFINES) $(CFLAGS_EXTRA)
+CXXFLAGS := -std=c++11 $(OPT) -fPIC -Wall $(DEFINES) -I$(LIGGGHTS_INCLUDE) -Isrc $(CXXFLAGS_EXTRA)
+
+.PHONY: all install test clean info
+all: $(LIBRARY) $(LAUNCHER)
+
+info:
+	@echo "CUDA=$(CUDA_ENABLED) NVCC=$(NVCC) CUDA_ARCH=$(CUDA_ARCH) PRECISION=$(PRECISION) PREFIX=$(PREFIX)"
+
+$(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) Makefile Makefile.package
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/obj/%.o: src/%.cpp $(wildcard src/*.h) Makefile Makefile.package
+	@mkdir -p $(dir $@)
+	$(MPICXX) $(CXXFLAGS) -c $< -o $@
+
+$(LIBRARY): $(OBJECTS)
+	@mkdir -p $(dir $@)
+	$(MPICXX) -shared -o $@ $(OBJECTS) $(LIGGGHTS_LIBS) -ldl -lm
+
+# libpolyhedral must precede libliggghts in the link so its definitions of the
+# hooked LIGGGHTS methods win symbol lookup (see src/polyhedral_register.cpp).
+$(LAUNCHER): src/liggghts_poly_main.cpp $(LIBRARY)
+	@mkdir -p $(dir $@)
+	$(MPICXX) $(CXXFLAGS) $< -o $@ -L$(BUILD)/lib -Wl,--no-as-needed -lpolyhedral $(LIGGGHTS_LIBS) \
+	  -Wl,-rpath,'$$ORIGIN/../lib'
+
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib
+	install -m 755 $(LIBRARY) $(DESTDIR)$(PREFIX)/lib/
+	install -m 755 $(LAUNCHER) $(DESTDIR)$(PREFIX)/bin/
+
+test: all
+	/usr/bin/python3 -m pytest -q tests
+
+clean:
+	rm -rf $(BUILD)

@@ -1,0 +1,109 @@
+#include "create_polyhedron.h"
+
+#include <math.h>
+#include <mpi.h>
+#include <string.h>
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "group.h"
+
+#include "atom_vec_polyhedron.h"
+#include "fix_particletemplate_polyhedron.h"
+#include "poly_rigid.h"
+
+using namespace LAMMPS_NS;
+
+CreatePolyhedron::CreatePolyhedron(LAMMPS *lmp) : Pointers(lmp) {}
+
+void CreatePolyhedron::command(int narg, char **arg)
+{
+  if (!domain->box_exist) error->all(FLERR, "create_polyhedron command before simulation box is defined");
+  if (strcmp(atom->atom_style, "polyhedron") != 0)
+    error->all(FLERR, "create_polyhedron requires atom_style polyhedron");
+  if (narg < 4) error->all(FLERR, "Illegal create_polyhedron command: expected TEMPLATE-ID x y z [quat w i j k] [vel vx vy vz] [omega wx wy wz]");
+
+  FixParticletemplatePolyhedron *shape_template = FixParticletemplatePolyhedron::find(lmp, arg[0]);
+  if (!shape_template) {
+    char message[256];
+    snprintf(message, sizeof message, "create_polyhedron: '%s' is not the ID of a fix particletemplate/polyhedron", arg[0]);
+    error->all(FLERR, message);
+  }
+
+  double position[3], quat[4] = {1.0, 0.0, 0.0, 0.0}, velocity[3] = {0.0, 0.0, 0.0}, omega[3] = {0.0, 0.0, 0.0};
+  for (int k = 0; k < 3; k++) position[k] = force->numeric(FLERR, arg[1 + k]);
+  for (int iarg = 4; iarg < narg;) {
+    if (strcmp(arg[iarg], "quat") == 0) {
+      if (iarg + 5 > narg) error->all(FLERR, "create_polyhedron: 'quat' needs 4 values w i j k");
+      for (int k = 0; k < 4; k++) quat[k] = force->numeric(FLERR, arg[iarg + 1 + k]);
+      double norm = sqrt(quat[0] * quat[0] + quat[1] * quat[1] + quat[2] * quat[2] + quat[3] * quat[3]);
+      if (!(norm > 0.0)) error->all(FLERR, "create_polyhedron: 'quat' must not be zero");
+      poly_quat_normalize(quat);
+      iarg += 5;
+    } else if (strcmp(arg[iarg], "vel") == 0 || strcmp(arg[iarg], "omega") == 0) {
+      double *target = strcmp(arg[iarg], "vel") == 0 ? velocity : omega;
+      if (iarg + 4 > narg) error->all(FLERR, "create_polyhedron: 'vel' and 'omega' need 3 values");
+      for (int k = 0; k < 3; k++) target[k] = force->numeric(FLERR, arg[iarg + 1 + k]);
+      iarg += 4;
+    } else {
+      char message[256];
+      snprintf(message, sizeof message, "create_polyhedron: unknown keyword '%s'", arg[iarg]);
+      error->all(FLERR, message);
+    }
+  }
+
+  // Periodic positions are wrapped into the box; the owner is the rank whose
+  // sub-domain holds the wrapped point (half-open, so exactly one rank).
+  tagint image = ((tagint) IMGMAX << IMG2BITS) | ((tagint) IMGMAX << IMGBITS) | IMGMAX;
+  domain->remap(position, image);
+  double *lo = domain->sublo, *hi = domain->subhi;
+  if (domain->triclinic) error->all(FLERR, "create_polyhedron does not support triclinic boxes");
+  bool mine = true;
+  for (int k = 0; k < 3; k++) {
+    // Half-open sub-domains give exactly one owner; the upper face of a
+    // non-periodic box belongs to the last rank along that axis.
+    bool last_rank = comm->myloc[k] == comm->procgrid[k] - 1 && !domain->periodicity[k];
+    bool inside = position[k] >= lo[k] && (position[k] < hi[k] || (last_rank && position[k] <= hi[k]));
+    mine = mine && inside;
+  }
+  int created = 0;
+  if (mine) {
+    AtomVecPolyhedron *avec = static_cast<AtomVecPolyhedron *>(atom->avec);
+    avec->create_atom(shape_template->atom_type(), position);
+    int i = atom->nlocal - 1;
+    atom->image[i] = image;
+    atom->mask[i] = 1 | group->bitmask[group->find("all")];
+    atom->shapetype[i] = shape_template->shape_index();
+    atom->density[i] = shape_template->density();
+    for (int k = 0; k < 4; k++) atom->quaternion[i][k] = quat[k];
+    avec->resolve_shape(i);
+    for (int k = 0; k < 3; k++) {
+      atom->v[i][k] = velocity[k];
+      atom->omega[i][k] = omega[k];
+    }
+    poly_omega_to_angmom(atom->quaternion[i], atom->inertia[i], omega, atom->angmom[i]);
+    created = 1;
+  }
+
+  int created_total = 0;
+  MPI_Allreduce(&created, &created_total, 1, MPI_INT, MPI_SUM, world);
+  if (created_total != 1) {
+    char message[256];
+    snprintf(message, sizeof message,
+             "create_polyhedron: position (%g, %g, %g) is outside the simulation box", position[0], position[1],
+             position[2]);
+    error->all(FLERR, message);
+  }
+
+  bigint nlocal = atom->nlocal;
+  MPI_Allreduce(&nlocal, &atom->natoms, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (atom->tag_enable) atom->tag_extend();
+  if (atom->map_style) {
+    atom->nghost = 0;
+    atom->map_init();
+    atom->map_set();
+  }
+}

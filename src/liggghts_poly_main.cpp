@@ -1,0 +1,39 @@
+/* liggghts-poly: the stock LIGGGHTS front end with the polyhedral styles.
+ * Same command-line switches as `liggghts` (-in -var -log -screen -echo
+ * -suffix ...), since they are parsed by LAMMPS' own constructor. */
+#include <mpi.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "lammps.h"
+#include "input.h"
+#include "signal_handling.h"
+
+#include "polyhedral_register.h"
+
+using namespace LAMMPS_NS;
+
+int main(int argc, char **argv)
+{
+  // Same signal behaviour as `liggghts`: SIGINT/SIGTERM ask for a clean stop,
+  // SIGUSR1 for a restart file.
+  struct sigaction quit_action, restart_action;
+  memset(&quit_action, 0, sizeof quit_action);
+  memset(&restart_action, 0, sizeof restart_action);
+  quit_action.sa_handler = SignalHandler::int_handler;
+  restart_action.sa_handler = SignalHandler::usr1_handler;
+  sigaction(SIGINT, &quit_action, NULL);
+  sigaction(SIGTERM, &quit_action, NULL);
+  sigaction(SIGUSR1, &restart_action, NULL);
+
+  MPI_Init(&argc, &argv);
+  if (!polyhedral_verify_hooks()) MPI_Abort(MPI_COMM_WORLD, 1);
+
+  LAMMPS *lammps = new LAMMPS(argc, argv, MPI_COMM_WORLD);
+  lammps->input->file();
+  delete lammps;
+
+  MPI_Finalize();
+  return 0;
+}

@@ -1,0 +1,176 @@
+/* How the polyhedral styles get into a prebuilt LIGGGHTS.
+ *
+ * Debian's libliggghts.so compiles its styles in; it has no plugin loader.
+ * Three facts about that library (checked by tests/test_registration.py and,
+ * at every start, by polyhedral_verify_hooks()) make registration possible
+ * without rebuilding it:
+ *
+ * 1. Pair, fix, compute and command styles are looked up in std::maps of
+ *    creator functions (Force::pair_map, Modify::fix_map, Modify::compute_map,
+ *    Input::command_map). Inserting into them works, but `clear` destroys
+ *    Force and Modify and builds fresh maps. Both the LAMMPS constructor and
+ *    Input::clear() call LAMMPS::post_create() through the PLT, so defining that
+ *    method here (our library is searched before libliggghts) runs our
+ *    registration after every (re)creation; we then forward to the original.
+ *
+ * 2. Atom styles and dump styles are if-chains (Atom::new_avec,
+ *    Output::add_dump), also called through the PLT. Our definitions catch our
+ *    style names and forward everything else to the original via
+ *    dlsym(RTLD_NEXT). For a dump, the original still does the bookkeeping
+ *    (id check, frequency, list growth) on a cheap stand-in style, which we
+ *    then swap for our object.
+ *
+ * 3. LD_PRELOAD of this library into the stock `liggghts` binary would work
+ *    for the lookups but is inherited by OpenMPI's daemons and breaks their
+ *    start-up, so the package ships its own launcher (liggghts_poly_main.cpp)
+ *    linked against this library ahead of libliggghts.
+ */
+#include "polyhedral_register.h"
+
+#include <dlfcn.h>
+#include <map>
+#include <string>
+#include <stdio.h>
+#include <string.h>
+
+#include "lammps.h"
+#include "atom.h"
+#include "force.h"
+#include "modify.h"
+#include "input.h"
+#include "output.h"
+#include "error.h"
+
+#include "atom_vec_polyhedron.h"
+#include "compute_erotate_polyhedron.h"
+#include "compute_property_polyhedron.h"
+#include "create_polyhedron.h"
+#include "dump_polyhedron_vtk.h"
+#include "fix_nve_polyhedron.h"
+#include "fix_particletemplate_polyhedron.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+const char *const kPostCreateSymbol = "_ZN9LAMMPS_NS6LAMMPS11post_createEv";
+const char *const kNewAvecSymbol = "_ZN9LAMMPS_NS4Atom8new_avecEPKcPcRi";
+const char *const kAddDumpSymbol = "_ZN9LAMMPS_NS6Output8add_dumpEiPPc";
+
+// Itanium C++ ABI: a non-virtual member function is a function taking `this` first.
+typedef void (*PostCreateFn)(LAMMPS *);
+typedef AtomVec *(*NewAvecFn)(Atom *, const char *, char *, int &);
+typedef void (*AddDumpFn)(Output *, int, char **);
+
+void *original(const char *symbol)
+{
+  void *fn = dlsym(RTLD_NEXT, symbol);
+  if (!fn) {
+    fprintf(stderr, "ERROR: polyhedral: LIGGGHTS library has no symbol %s\n", symbol);
+    fflush(stderr);
+    abort();
+  }
+  return fn;
+}
+
+template <typename T> Fix *create_fix(LAMMPS *lmp, int narg, char **arg) { return new T(lmp, narg, arg); }
+template <typename T> Compute *create_compute(LAMMPS *lmp, int iarg, int narg, char **arg) { return new T(lmp, iarg, narg, arg); }
+template <typename T> void run_command(LAMMPS *lmp, int narg, char **arg) { T command(lmp); command.command(narg, arg); }
+
+// The creator maps are public in Force but private in Modify and protected in
+// Input. C++ lets an explicit template instantiation name a private member
+// ([temp.explicit]/12), which yields a member pointer without editing the
+// LIGGGHTS headers or relying on their layout.
+typedef Fix *(*FixCreator)(LAMMPS *, int, char **);
+typedef Compute *(*ComputeCreator)(LAMMPS *, int, int, char **);
+typedef void (*CommandCreator)(LAMMPS *, int, char **);
+typedef std::map<std::string, FixCreator> *Modify::*FixMapMember;
+typedef std::map<std::string, ComputeCreator> *Modify::*ComputeMapMember;
+typedef std::map<std::string, CommandCreator> *Input::*CommandMapMember;
+
+template <typename Tag, typename Tag::Member member> struct ExposeMember {
+  friend typename Tag::Member exposed(Tag) { return member; }
+};
+struct FixMapTag { typedef FixMapMember Member; friend Member exposed(FixMapTag); };
+struct ComputeMapTag { typedef ComputeMapMember Member; friend Member exposed(ComputeMapTag); };
+struct CommandMapTag { typedef CommandMapMember Member; friend Member exposed(CommandMapTag); };
+template struct ExposeMember<FixMapTag, &Modify::fix_map>;
+template struct ExposeMember<ComputeMapTag, &Modify::compute_map>;
+template struct ExposeMember<CommandMapTag, &Input::command_map>;
+
+void register_styles(LAMMPS *lmp)
+{
+  std::map<std::string, FixCreator> &fixes = *(lmp->modify->*exposed(FixMapTag()));
+  std::map<std::string, ComputeCreator> &computes = *(lmp->modify->*exposed(ComputeMapTag()));
+  std::map<std::string, CommandCreator> &commands = *(lmp->input->*exposed(CommandMapTag()));
+
+  fixes["particletemplate/polyhedron"] = &create_fix<FixParticletemplatePolyhedron>;
+  fixes["nve/polyhedron"] = &create_fix<FixNVEPolyhedron>;
+  computes["erotate/polyhedron"] = &create_compute<ComputeERotatePolyhedron>;
+  computes["property/polyhedron"] = &create_compute<ComputePropertyPolyhedron>;
+  commands["create_polyhedron"] = &run_command<CreatePolyhedron>;
+}
+
+}  // namespace
+
+// ---- the three interposed LIGGGHTS methods -------------------------------
+
+void LAMMPS::post_create()
+{
+  static PostCreateFn original_post_create = (PostCreateFn) original(kPostCreateSymbol);
+  register_styles(this);
+  original_post_create(this);
+}
+
+AtomVec *Atom::new_avec(const char *style, char *suffix, int &sflag)
+{
+  static NewAvecFn original_new_avec = (NewAvecFn) original(kNewAvecSymbol);
+  if (strcmp(style, "polyhedron") == 0) {
+    sflag = 0;
+    return new AtomVecPolyhedron(lmp);
+  }
+  return original_new_avec(this, style, suffix, sflag);
+}
+
+void Output::add_dump(int narg, char **arg)
+{
+  static AddDumpFn original_add_dump = (AddDumpFn) original(kAddDumpSymbol);
+  if (narg < 3 || strcmp(arg[2], "polyhedron/vtk") != 0) {
+    original_add_dump(this, narg, arg);
+    return;
+  }
+  if (narg < 5) error->all(FLERR, "Illegal dump polyhedron/vtk command: expected ID group polyhedron/vtk N file");
+  Dump *ours = new DumpPolyhedronVTK(lmp, narg, arg);
+  char stand_in_style[] = "xyz";
+  char stand_in_file[] = "/dev/null";
+  char *stand_in_args[5] = {arg[0], arg[1], stand_in_style, arg[3], stand_in_file};
+  original_add_dump(this, 5, stand_in_args);
+  delete dump[ndump - 1];
+  dump[ndump - 1] = ours;
+}
+
+// ---- start-up check -------------------------------------------------------
+
+static bool defined_in_this_library(const char *symbol)
+{
+  Dl_info ours, used;
+  void *resolved = dlsym(RTLD_DEFAULT, symbol);
+  if (!resolved || !dladdr((void *) &register_styles, &ours) || !dladdr(resolved, &used)) return false;
+  return ours.dli_fbase == used.dli_fbase;
+}
+
+int polyhedral_verify_hooks(void)
+{
+  const char *symbols[3] = {kPostCreateSymbol, kNewAvecSymbol, kAddDumpSymbol};
+  int ok = 1;
+  for (int i = 0; i < 3; i++) {
+    if (!defined_in_this_library(symbols[i])) {
+      fprintf(stderr,
+              "ERROR: polyhedral: the dynamic linker does not resolve %s to libpolyhedral; "
+              "this LIGGGHTS build cannot host the polyhedral styles (link libpolyhedral before libliggghts)\n",
+              symbols[i]);
+      ok = 0;
+    }
+  }
+  return ok;
+}
