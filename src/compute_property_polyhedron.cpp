@@ -28,6 +28,9 @@ ComputePropertyPolyhedron::ComputePropertyPolyhedron(LAMMPS *lmp, int &iarg, int
                                                      "inertiax inertiay inertiaz boundradius volume)");
     quantities[n] = static_cast<Quantity>(found);
   }
+  // The LIGGGHTS Compute base leaves these unset.
+  vector_atom = NULL;
+  array_atom = NULL;
   peratom_flag = 1;
   size_peratom_cols = num_quantities == 1 ? 0 : num_quantities;
 }

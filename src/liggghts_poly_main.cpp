@@ -27,6 +27,10 @@ int main(int argc, char **argv)
   sigaction(SIGTERM, &quit_action, NULL);
   sigaction(SIGUSR1, &restart_action, NULL);
 
+  // Error::one() aborts without flushing: line buffering keeps its ERROR line
+  // when the screen is a pipe (mpirun, batch systems, tests).
+  setvbuf(stdout, NULL, _IOLBF, 0);
+
   MPI_Init(&argc, &argv);
   if (!polyhedral_verify_hooks()) MPI_Abort(MPI_COMM_WORLD, 1);
 

@@ -54,7 +54,8 @@ class DeckResult:
                     table.setdefault(name, []).append(float(value))
             elif header and not (words and re.match(r"^-?\d+$", words[0])):
                 header = None
-        return {c: table[c] for c in columns} if columns else table
+        # LIGGGHTS prints a compute column c_NAME as NAME.
+        return {c: table[c] if c in table else table[c[2:]] for c in columns} if columns else table
 
 
 @pytest.fixture
@@ -74,7 +75,7 @@ def run_deck(launcher, tmp_path):
         if nprocs > 1:
             command = ["mpirun", "-np", str(nprocs)] + command
         result = subprocess.run(command, cwd=workdir, capture_output=True, text=True, env=env,
-                                timeout=timeout)
+                                timeout=timeout, errors="backslashreplace")
         return DeckResult(result.returncode, result.stdout + result.stderr, workdir)
 
     return run

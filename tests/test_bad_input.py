@@ -1,0 +1,87 @@
+"""Bad input gives one clear ERROR: line naming the problem and a non-zero exit, never a crash."""
+import pytest
+
+import decks
+
+BOX = "atom_style polyhedron\natom_modify sort 0 0\nboundary f f f\nregion box block 0 1 0 1 0 1\ncreate_box 2 box\n"
+
+
+def template_line(path, extra=""):
+    return f"fix t all particletemplate/polyhedron 15485863 atom_type 1 density constant 1000 file {path}{extra}\n"
+
+
+@pytest.mark.parametrize("mesh, expected", [
+    ("open.stl", ["open.stl", "is open", "belongs to only one triangle"]),
+    ("inconsistent.off", ["inconsistent.off", "inconsistent orientation"]),
+    ("nonmanifold_edge.off", ["nonmanifold_edge.off", "non-manifold", "shared by 4 triangles"]),
+    ("pinched_vertex.off", ["pinched_vertex.off", "non-manifold", "pinched vertex"]),
+    ("degenerate.obj", ["degenerate.obj", "degenerate triangle", "zero area"]),
+    ("disconnected.obj", ["disconnected.obj", "more than one connected component"]),
+    ("garbage.obj", ["garbage.obj", "line 9", "references vertex 9"]),
+    ("truncated.stl", ["truncated.stl", "truncated"]),
+    ("empty.off", ["empty.off", "no triangles"]),
+    ("unknown.xyz", ["unknown.xyz", "unknown extension"]),
+    ("does_not_exist.stl", ["does_not_exist.stl"]),
+])
+def test_bad_shape_mesh_is_an_error_naming_file_and_defect(run_deck, mesh, expected):
+    result = run_deck(BOX + template_line("${BAD}/" + mesh))
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert errors[0].startswith("ERROR: Fix particletemplate/polyhedron (id t):")
+    for fragment in expected:
+        assert fragment in errors[0], errors[0]
+    assert "Segmentation" not in result.output and "signal" not in result.output
+
+
+def test_inward_mesh_is_flipped_with_a_warning(run_deck):
+    result = run_deck(BOX + template_line("${BAD}/inward.off") +
+                      "create_polyhedron t 0.5 0.5 0.5\ncompute p all property/polyhedron volume\n"
+                      "variable v equal c_p[1]\nfix integrate all nve/polyhedron\n"
+                      "dump d all custom 1 volume.txt id c_p\nrun 0\n")
+    assert result.returncode == 0, result.output
+    assert any("inward.off" in w and "flipped" in w for w in result.warning_lines()), result.output
+    _, rows = decks.read_dump(result.workdir / "volume.txt")
+    assert abs(rows[1][1] - 1.0) < 1e-12  # the unit cube, with positive volume
+
+
+@pytest.mark.parametrize("line, expected", [
+    (template_line("${SHAPES}/cube.stl", " colour red"), "unknown keyword"),
+    ("fix t all particletemplate/polyhedron 15485863 atom_type 1 file ${SHAPES}/cube.stl\n", "missing keyword 'density'"),
+    ("fix t all particletemplate/polyhedron 15485863 density constant 1 file ${SHAPES}/cube.stl\n",
+     "missing keyword 'atom_type'"),
+    ("fix t all particletemplate/polyhedron 15485863 atom_type 1 density constant 1\n", "missing keyword 'file'"),
+    ("fix t all particletemplate/polyhedron 15485863 atom_type 3 density constant 1 file ${SHAPES}/cube.stl\n",
+     "atom type exceeds"),
+    (template_line("${SHAPES}/cube.stl", " scale -2"), "scale must be > 0"),
+    ("fix t all particletemplate/polyhedron 15485863 atom_type 1 density uniform 1 2 file ${SHAPES}/cube.stl\n",
+     "only 'density constant RHO'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron nothere 0.5 0.5 0.5\n",
+     "'nothere' is not the ID of a fix particletemplate/polyhedron"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 2.5 0.5 0.5\n", "outside the simulation box"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 0.5 spin 1 2 3\n", "unknown keyword 'spin'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 0.5 quat 0 0 0 0\n", "must not be zero"),
+    ("compute e all erotate/polyhedron extra\n", "takes no arguments"),
+    ("compute p all property/polyhedron colour\n", "unknown keyword"),
+    ("fix n all nve/polyhedron extra\n", "takes no arguments"),
+    ("dump d all polyhedron/vtk 10 no_star.vtp\n", "needs a '*'"),
+])
+def test_bad_command_is_an_error(run_deck, line, expected):
+    result = run_deck(BOX + line)
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1 and expected in errors[0], result.output
+
+
+@pytest.mark.parametrize("deck, expected", [
+    ("atom_style sphere\natom_modify sort 0 0\nregion box block 0 1 0 1 0 1\ncreate_box 1 box\n"
+     "fix t all particletemplate/polyhedron 15485863 atom_type 1 density constant 1 file ${SHAPES}/cube.stl\n"
+     "create_polyhedron t 0.5 0.5 0.5\n", "create_polyhedron requires atom_style polyhedron"),
+    ("atom_style sphere\natom_modify sort 0 0\nregion box block 0 1 0 1 0 1\ncreate_box 1 box\n"
+     "create_atoms 1 single 0.5 0.5 0.5\nfix n all nve/polyhedron\nrun 0\n", "requires atom_style polyhedron"),
+    (BOX + "create_atoms 1 single 0.5 0.5 0.5\nrun 0\n", "has shape 0, but 0 fix particletemplate/polyhedron"),
+])
+def test_wrong_atom_style_or_missing_shape(run_deck, deck, expected):
+    result = run_deck(deck)
+    assert result.returncode != 0
+    assert any(expected in line for line in result.error_lines()), result.output
