@@ -2,6 +2,7 @@
 #   make            build build/lib/libpolyhedral.so and build/bin/liggghts-poly
 #   make install    copy them under $(PREFIX) (see Makefile.package)
 #   make test       build, then run the test suite
+#   make example    build, run examples/tumbling and render it to doc/images/tumbling.png
 include Makefile.package
 
 BUILD := build
@@ -25,7 +26,7 @@ DEFINES := $(MPI_DEFINES) $(PRECISION_DEFINE)
 CFLAGS := -std=c11 $(OPT) -fPIC -Wall -Wextra $(DEFINES) $(CFLAGS_EXTRA)
 CXXFLAGS := -std=c++11 $(OPT) -fPIC -Wall $(DEFINES) -I$(LIGGGHTS_INCLUDE) -Isrc $(CXXFLAGS_EXTRA)
 
-.PHONY: all install test clean info
+.PHONY: all install test example clean info
 all: $(LIBRARY) $(LAUNCHER)
 
 info:
@@ -57,6 +58,14 @@ install: all
 
 test: all
 	/usr/bin/python3 -m pytest -q tests
+
+example: all
+	cd examples/tumbling && rm -rf post && mkdir -p post && \
+	  ../../$(LAUNCHER) -in in.tumbling -log post/log.lammps -var N 6
+	@mkdir -p doc/images
+	/usr/bin/python3 tools/render_vtp.py examples/tumbling/post/particles_2500.vtp doc/images/tumbling.png \
+	  --colour shape --title "examples/tumbling: 36 particles of six shapes, t = 0.25 s"
+	@echo "wrote doc/images/tumbling.png and examples/tumbling/post/particles_*.vtp (open in ParaView)"
 
 clean:
 	rm -rf $(BUILD)
