@@ -42,7 +42,9 @@ AtomVecPolyhedron::AtomVecPolyhedron(LAMMPS *lmp) : AtomVec(lmp)
   atom->sphere_flag = 0;
   atom->radius_flag = atom->rmass_flag = atom->omega_flag = atom->density_flag = 1;
   atom->torque_flag = atom->angmom_flag = 1;
-  atom->shapetype_flag = 1;
+  // atom->shapetype holds our template number, but shapetype_flag stays 0:
+  // LIGGGHTS reads that flag as "superquadric" in fix wall/gran and elsewhere.
+  atom->shapetype_flag = 0;
 }
 
 void AtomVecPolyhedron::init()

@@ -20,10 +20,13 @@
  *    (id check, frequency, list growth) on a cheap stand-in style, which we
  *    then swap for our object.
  *
- * 3. LD_PRELOAD of this library into the stock `liggghts` binary would work
- *    for the lookups but is inherited by OpenMPI's daemons and breaks their
- *    start-up, so the package ships its own launcher (liggghts_poly_main.cpp)
- *    linked against this library ahead of libliggghts.
+ * 3. The package ships its own launcher (liggghts_poly_main.cpp), linked
+ *    against this library ahead of libliggghts, rather than asking users to
+ *    LD_PRELOAD it into the stock `liggghts`: a preload must survive every
+ *    launcher in the chain (mpirun, batch systems, remote daemons) and is
+ *    inherited by every process they start. It was reported to break OpenMPI
+ *    start-up; with Debian 12's OpenMPI 4.1.4 on one node it did work
+ *    (doc/building.md), but the launcher does not depend on either.
  */
 #include "polyhedral_register.h"
 
