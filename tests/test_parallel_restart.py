@@ -65,6 +65,12 @@ def test_one_and_two_ranks_give_the_same_trajectories(run_deck, tmp_path):
     snapshots_serial = decks.read_all_dump_snapshots(serial.workdir / "state.txt")
     snapshots_parallel = decks.read_all_dump_snapshots(parallel.workdir / "state.txt")
     assert len(snapshots_serial) == len(snapshots_parallel) == 5
+    # The cloud really moves between the two ranks' halves (x < 0.5, x >= 0.5) between snapshots.
+    x_column = snapshots_serial[0][1].index("x")
+    crossings = sum(1 for (_, _, before), (_, _, after) in zip(snapshots_serial, snapshots_serial[1:])
+                    for atom_id in before if (before[atom_id][x_column] < 0.5) != (after[atom_id][x_column] < 0.5))
+    print(f"particles changing rank half between snapshots: {crossings}")
+    assert crossings >= 20, crossings
     for (step_a, _, rows_a), (step_b, _, rows_b) in zip(snapshots_serial, snapshots_parallel):
         assert step_a == step_b
         assert len(rows_a) == 60  # no particle lost
