@@ -7,6 +7,7 @@
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
+#include "domain_wedge.h"
 #include "error.h"
 #include "fix.h"
 #include "memory.h"
@@ -20,13 +21,11 @@ using namespace LAMMPS_NS;
 
 // Sizes of the communicated records; they must match the pack/unpack pairs below.
 static const int kForwardSize = 7;         // x, quaternion
-static const int kForwardVelSize = 13;     // + v, omega
 static const int kBorderSize = 17;         // x, tag, type, mask, state
-static const int kBorderVelSize = 26;      // + v, omega, angmom
 static const int kStateSize = 17;          // radius density rmass omega angmom quat shapetype inertia
 static const int kExchangeBaseSize = 1 + 10 + kStateSize;
 
-AtomVecPolyhedron::AtomVecPolyhedron(LAMMPS *lmp) : AtomVec(lmp)
+AtomVecPolyhedron::AtomVecPolyhedron(LAMMPS *lmp) : AtomVec(lmp), check_restart_masses(false)
 {
   molecular = 0;
   comm_x_only = 0;  // orientation travels with positions
@@ -34,7 +33,7 @@ AtomVecPolyhedron::AtomVecPolyhedron(LAMMPS *lmp) : AtomVec(lmp)
   size_forward = kForwardSize;
   size_reverse = 6;
   size_border = kBorderSize;
-  size_velocity = 9;
+  size_velocity = 9;  // border_vel adds v, omega, angmom
   size_data_atom = 11;
   size_data_vel = 7;
   xcol_data = 5;
@@ -51,7 +50,9 @@ void AtomVecPolyhedron::init()
 {
   AtomVec::init();
   if (domain->dimension != 3) error->all(FLERR, "atom_style polyhedron requires a 3d simulation");
+  if (dynamic_cast<DomainWedge *>(domain)) error->all(FLERR, "atom_style polyhedron does not support wedge domains");
   for (int i = 0; i < atom->nlocal; i++) resolve_shape(i);
+  check_restart_masses = false;
 }
 
 void AtomVecPolyhedron::resolve_shape(int i)
@@ -67,7 +68,10 @@ void AtomVecPolyhedron::resolve_shape(int i)
   }
   const poly_shape &shape = shape_template->shape();
   double mass = density[i] * shape.volume;
-  if (rmass[i] > 0.0 && fabs(rmass[i] - mass) > 1e-9 * mass) {
+  // Density is authoritative (`set density` may have changed it); a mass read
+  // from a restart file must match, or the templates are not those of the run
+  // that wrote it.
+  if (check_restart_masses && fabs(rmass[i] - mass) > 1e-9 * mass) {
     char message[256];
     snprintf(message, sizeof message,
              "Particle %d: stored mass %g does not match shape %d (template '%s', density %g gives %g); "
@@ -133,7 +137,7 @@ void AtomVecPolyhedron::copy(int i, int j, int delflag)
     modify->fix[atom->extra_grow[iextra]]->copy_arrays(i, j, delflag);
 }
 
-// Periodic image shift of a ghost copy (orthogonal or triclinic box).
+// Periodic image shift of a ghost copy in forward communication (box coordinates).
 void AtomVecPolyhedron::shift_for(int pbc_flag, int *pbc, double shift[3])
 {
   shift[0] = shift[1] = shift[2] = 0.0;
@@ -145,6 +149,21 @@ void AtomVecPolyhedron::shift_for(int pbc_flag, int *pbc, double shift[3])
   } else {
     shift[0] = pbc[0] * domain->xprd + pbc[5] * domain->xy + pbc[4] * domain->xz;
     shift[1] = pbc[1] * domain->yprd + pbc[3] * domain->yz;
+    shift[2] = pbc[2] * domain->zprd;
+  }
+}
+
+// Comm::borders works in lamda coordinates for triclinic boxes, where an image
+// is one unit along each axis.
+void AtomVecPolyhedron::border_shift_for(int pbc_flag, int *pbc, double shift[3])
+{
+  shift[0] = shift[1] = shift[2] = 0.0;
+  if (!pbc_flag) return;
+  if (domain->triclinic) {
+    for (int k = 0; k < 3; k++) shift[k] = pbc[k];
+  } else {
+    shift[0] = pbc[0] * domain->xprd;
+    shift[1] = pbc[1] * domain->yprd;
     shift[2] = pbc[2] * domain->zprd;
   }
 }
@@ -254,7 +273,7 @@ void AtomVecPolyhedron::unpack_reverse(int n, int *list, double *buf)
 int AtomVecPolyhedron::pack_border(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
   double shift[3];
-  shift_for(pbc_flag, pbc, shift);
+  border_shift_for(pbc_flag, pbc, shift);
   int m = 0;
   for (int ii = 0; ii < n; ii++) {
     int j = list[ii];
@@ -277,7 +296,7 @@ int AtomVecPolyhedron::pack_border(int n, int *list, double *buf, int pbc_flag, 
 int AtomVecPolyhedron::pack_border_vel(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
   double shift[3], velocity_shift[3] = {0.0, 0.0, 0.0};
-  shift_for(pbc_flag, pbc, shift);
+  border_shift_for(pbc_flag, pbc, shift);
   if (pbc_flag && deform_vremap) {
     velocity_shift[0] = pbc[0] * h_rate[0] + pbc[5] * h_rate[5] + pbc[4] * h_rate[4];
     velocity_shift[1] = pbc[1] * h_rate[1] + pbc[3] * h_rate[3];
@@ -423,6 +442,7 @@ int AtomVecPolyhedron::unpack_restart(double *buf)
   image[nlocal] = (tagint) ubuf(buf[m++]).i;
   for (int k = 0; k < 3; k++) v[nlocal][k] = buf[m++];
   m += unpack_state(nlocal, &buf[m]);
+  check_restart_masses = true;
 
   double **extra = atom->extra;
   if (atom->nextra_store) {

@@ -69,7 +69,10 @@ class AtomVecPolyhedron : public AtomVec {
   double **omega, **angmom, **torque, **quaternion, **inertia;
   int *shapetype;
 
+  bool check_restart_masses;  // set by unpack_restart, checked and cleared by init
+
   void shift_for(int pbc_flag, int *pbc, double shift[3]);
+  void border_shift_for(int pbc_flag, int *pbc, double shift[3]);
   int pack_state(int i, double *buf);     // everything but x, v, tag/type/mask/image
   int unpack_state(int i, const double *buf);
 };

@@ -61,18 +61,15 @@ void CreatePolyhedron::command(int narg, char **arg)
   domain->remap(position, image);
   double *lo = domain->sublo, *hi = domain->subhi;
   if (domain->triclinic) error->all(FLERR, "create_polyhedron does not support triclinic boxes");
+  // Half-open sub-domains, as LIGGGHTS' own exchange keeps them: exactly one
+  // owner, and a point on the upper face of a fixed boundary belongs to nobody
+  // (LIGGGHTS would drop it silently at the first exchange).
   bool mine = true;
-  for (int k = 0; k < 3; k++) {
-    // Half-open sub-domains give exactly one owner; the upper face of a
-    // non-periodic box belongs to the last rank along that axis.
-    bool last_rank = comm->myloc[k] == comm->procgrid[k] - 1 && !domain->periodicity[k];
-    bool inside = position[k] >= lo[k] && (position[k] < hi[k] || (last_rank && position[k] <= hi[k]));
-    mine = mine && inside;
-  }
+  for (int k = 0; k < 3; k++) mine = mine && position[k] >= lo[k] && position[k] < hi[k];
   int created = 0;
   if (mine) {
     AtomVecPolyhedron *avec = static_cast<AtomVecPolyhedron *>(atom->avec);
-    avec->create_atom(shape_template->atom_type(), position);
+    avec->create_atom(shape_template->particle_type(), position);
     int i = atom->nlocal - 1;
     atom->image[i] = image;
     atom->mask[i] = 1 | group->bitmask[group->find("all")];

@@ -69,22 +69,27 @@ void DumpPolyhedronVTK::write()
   snprintf(step, sizeof step, BIGINT_FORMAT, update->ntimestep);
   path.replace(path.find('*'), 1, step);
 
-  int ok = 1;
-  if (comm->me == 0) {
-    FILE *probe = fopen(path.c_str(), "w");
-    ok = probe != NULL;
-    if (probe) fclose(probe);
-  }
+  FILE *out = NULL;
+  if (comm->me == 0) out = fopen(path.c_str(), "w");
+  int ok = comm->me != 0 || out != NULL;
   MPI_Bcast(&ok, 1, MPI_INT, 0, world);
   if (!ok) {
     std::string message = "dump polyhedron/vtk cannot open file " + path;
     error->all(FLERR, message.c_str());
   }
-  if (comm->me == 0) write_file(path.c_str());
+  if (comm->me == 0) {
+    write_file(out);
+    ok = fclose(out) == 0;
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, world);
+  if (!ok) {
+    std::string message = "dump polyhedron/vtk could not write file " + path;
+    error->all(FLERR, message.c_str());
+  }
 }
 
 // VTK XML PolyData, ASCII; particles sorted by id so output is independent of the decomposition.
-void DumpPolyhedronVTK::write_file(const char *path)
+void DumpPolyhedronVTK::write_file(FILE *out)
 {
   int num_particles = (int) all_records.size() / kRecordSize;
   std::vector<int> order(num_particles);
@@ -104,7 +109,6 @@ void DumpPolyhedronVTK::write_file(const char *path)
     num_cells += shapes[p]->num_triangles;
   }
 
-  FILE *out = fopen(path, "w");
   fprintf(out, "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
   fprintf(out, "<PolyData>\n<Piece NumberOfPoints=\"%ld\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
                "NumberOfStrips=\"0\" NumberOfPolys=\"%ld\">\n", num_points, num_cells);
@@ -153,5 +157,4 @@ void DumpPolyhedronVTK::write_file(const char *path)
     fprintf(out, "</DataArray>\n");
   }
   fprintf(out, "</CellData>\n</Piece>\n</PolyData>\n</VTKFile>\n");
-  fclose(out);
 }

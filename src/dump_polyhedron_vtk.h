@@ -28,7 +28,7 @@ class DumpPolyhedronVTK : public Dump {
  private:
   std::vector<double> local_records, all_records;
   void gather_records();
-  void write_file(const char *path);
+  void write_file(FILE *out);
 };
 
 }

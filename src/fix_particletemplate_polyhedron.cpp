@@ -2,6 +2,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <vector>
 
 #include "atom.h"
 #include "comm.h"
@@ -9,54 +10,35 @@
 #include "error.h"
 #include "force.h"
 #include "modify.h"
-#include "random_park.h"
 
 using namespace LAMMPS_NS;
 
 static const char *const kStyle = "particletemplate/polyhedron";
 
+// FixTemplateSphere parses its keywords (atom_type, density, region, ...) until
+// the first one it does not know; ours (file, scale) therefore go last.
+static bool is_own_keyword(const char *word) { return strcmp(word, "file") == 0 || strcmp(word, "scale") == 0; }
+
+static char **base_keywords_first(int narg, char **arg)
+{
+  static std::vector<char *> ordered;
+  ordered.assign(arg, arg + (narg < 4 ? narg : 4));
+  std::vector<char *> own;
+  for (int i = 4; i < narg; i++) {
+    bool own_pair = is_own_keyword(arg[i]) && i + 1 < narg;
+    (own_pair ? own : ordered).push_back(arg[i]);
+    if (own_pair) own.push_back(arg[++i]);
+  }
+  ordered.insert(ordered.end(), own.begin(), own.end());
+  return &ordered[0];
+}
+
 FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int narg, char **arg)
-    : Fix(lmp, narg, arg), shape_index_(0), atom_type_(0), density_(0.0), scale_(1.0), file_(NULL), seed_(0)
+    : FixTemplateSphere(lmp, narg, base_keywords_first(narg, arg)),
+      shape_index_(0), density_(0.0), scale_(1.0), file_(NULL)
 {
   memset(&shape_, 0, sizeof shape_);
-  if (domain->dimension != 3) error->fix_error(FLERR, this, "requires a 3d simulation");
-  if (narg < 4) error->fix_error(FLERR, this, "expected: SEED atom_type T density constant RHO file PATH [scale S]");
-  // Validated and kept for random orientations at insertion time.
-  RanPark seed_check(lmp, arg[3]);
-  seed_ = atoi(arg[3]);
-
-  for (int iarg = 4; iarg < narg;) {
-    if (strcmp(arg[iarg], "atom_type") == 0) {
-      if (iarg + 2 > narg) error->fix_error(FLERR, this, "missing value after 'atom_type'");
-      atom_type_ = force->inumeric(FLERR, arg[iarg + 1]);
-      if (atom_type_ < 1) error->fix_error(FLERR, this, "invalid atom type (must be >= 1)");
-      iarg += 2;
-    } else if (strcmp(arg[iarg], "density") == 0) {
-      if (iarg + 3 > narg) error->fix_error(FLERR, this, "expected 'density constant RHO'");
-      if (strcmp(arg[iarg + 1], "constant") != 0)
-        error->fix_error(FLERR, this, "only 'density constant RHO' is supported");
-      density_ = force->numeric(FLERR, arg[iarg + 2]);
-      if (!(density_ > 0.0)) error->fix_error(FLERR, this, "density must be > 0");
-      iarg += 3;
-    } else if (strcmp(arg[iarg], "file") == 0) {
-      if (iarg + 2 > narg) error->fix_error(FLERR, this, "missing path after 'file'");
-      delete[] file_;
-      file_ = new char[strlen(arg[iarg + 1]) + 1];
-      strcpy(file_, arg[iarg + 1]);
-      iarg += 2;
-    } else if (strcmp(arg[iarg], "scale") == 0) {
-      if (iarg + 2 > narg) error->fix_error(FLERR, this, "missing value after 'scale'");
-      scale_ = force->numeric(FLERR, arg[iarg + 1]);
-      if (!(scale_ > 0.0)) error->fix_error(FLERR, this, "scale must be > 0");
-      iarg += 2;
-    } else {
-      error->fix_error(FLERR, this, "unknown keyword", arg[iarg]);
-    }
-  }
-  if (atom_type_ == 0) error->fix_error(FLERR, this, "missing keyword 'atom_type'");
-  if (density_ == 0.0) error->fix_error(FLERR, this, "missing keyword 'density'");
-  if (!file_) error->fix_error(FLERR, this, "missing keyword 'file'");
-  if (atom_type_ > atom->ntypes) error->fix_error(FLERR, this, "atom type exceeds the number of atom types");
+  parse_own_keywords(narg, arg);
 
   char message[512];
   if (poly_shape_load(file_, scale_, &shape_, message, sizeof message) != POLY_OK) {
@@ -69,12 +51,19 @@ FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int na
     error->warning(FLERR, message);
   }
 
+  // Particles refer to a template by number, so a template cannot be replaced
+  // in place. Modify::add_fix empties the slot of a fix being redefined
+  // before constructing the new one: an empty slot means redefinition.
+  for (int i = 0; i < modify->nfix; i++)
+    if (!modify->fix[i])
+      error->fix_error(FLERR, this, "a template cannot be redefined (particles refer to its shape number); "
+                                    "use a new fix ID");
+
   // Numbered after the templates that exist already (this fix is not yet in
-  // modify->fix); max + 1 rather than count + 1 so an unfix never reuses a number.
+  // modify->fix); max + 1 so an unfix never leads to a reused number.
   shape_index_ = 1;
   for (int i = 0; i < modify->nfix; i++)
-    if (strcmp(modify->fix[i]->style, kStyle) == 0)
-      {
+    if (strcmp(modify->fix[i]->style, kStyle) == 0) {
       int existing = static_cast<FixParticletemplatePolyhedron *>(modify->fix[i])->shape_index_;
       if (existing >= shape_index_) shape_index_ = existing + 1;
     }
@@ -85,6 +74,38 @@ FixParticletemplatePolyhedron::~FixParticletemplatePolyhedron()
 {
   poly_shape_free(&shape_);
   delete[] file_;
+}
+
+// FixTemplateSphere has checked seed, atom_type, density and region; this
+// reads file and scale, the density value, and rejects anything unknown.
+void FixParticletemplatePolyhedron::parse_own_keywords(int narg, char **arg)
+{
+  for (int i = 4; i < narg;) {
+    if (strcmp(arg[i], "atom_type") == 0 || strcmp(arg[i], "region") == 0 || strcmp(arg[i], "relative") == 0 ||
+        strcmp(arg[i], "volume_limit") == 0 || strcmp(arg[i], "additional_group") == 0) {
+      i += 2;
+    } else if (strcmp(arg[i], "density") == 0) {
+      if (i + 3 > narg || strcmp(arg[i + 1], "constant") != 0)
+        error->fix_error(FLERR, this, "only 'density constant RHO' is supported");
+      density_ = force->numeric(FLERR, arg[i + 2]);
+      i += 3;
+    } else if (strcmp(arg[i], "file") == 0) {
+      if (i + 2 > narg) error->fix_error(FLERR, this, "missing path after 'file'");
+      delete[] file_;
+      file_ = new char[strlen(arg[i + 1]) + 1];
+      strcpy(file_, arg[i + 1]);
+      i += 2;
+    } else if (strcmp(arg[i], "scale") == 0) {
+      if (i + 2 > narg) error->fix_error(FLERR, this, "missing value after 'scale'");
+      scale_ = force->numeric(FLERR, arg[i + 1]);
+      if (!(scale_ > 0.0)) error->fix_error(FLERR, this, "scale must be > 0");
+      i += 2;
+    } else {
+      error->fix_error(FLERR, this, "unknown keyword", arg[i]);
+    }
+  }
+  if (!file_) error->fix_error(FLERR, this, "missing keyword 'file'");
+  if (atom_type > atom->ntypes) error->fix_error(FLERR, this, "atom type exceeds the number of atom types");
 }
 
 void FixParticletemplatePolyhedron::print_summary()
@@ -101,11 +122,36 @@ void FixParticletemplatePolyhedron::print_summary()
   if (logfile) fputs(line, logfile);
 }
 
+unsigned int FixParticletemplatePolyhedron::generate_hash()
+{
+  unsigned int hash = 0;
+  unsigned int start = seed_orig * 420001;
+  add_hash_value(atom_type, start, hash);
+  add_hash_value(shape_index_, start, hash);
+  add_hash_value(shape_.volume, start, hash);
+  add_hash_value(density_, start, hash);
+  return hash;
+}
+
+void FixParticletemplatePolyhedron::insertion_not_supported()
+{
+  error->fix_error(FLERR, this, "inserting polyhedral particles with fix insert/* is not available yet; "
+                                "place them with create_polyhedron");
+}
+
+void FixParticletemplatePolyhedron::init_ptilist(int, const bool, FixPropertyAtom *const) { insertion_not_supported(); }
+void FixParticletemplatePolyhedron::randomize_single() { insertion_not_supported(); }
+void FixParticletemplatePolyhedron::randomize_ptilist(int, int, int) { insertion_not_supported(); }
+void FixParticletemplatePolyhedron::direct_set_ptlist(const int, const void *const, const int, const int)
+{
+  insertion_not_supported();
+}
+
 FixParticletemplatePolyhedron *FixParticletemplatePolyhedron::find(LAMMPS *lmp, int shape_index)
 {
   for (int i = 0; i < lmp->modify->nfix; i++) {
     Fix *fix = lmp->modify->fix[i];
-    if (strcmp(fix->style, kStyle) == 0) {
+    if (fix && strcmp(fix->style, kStyle) == 0) {
       FixParticletemplatePolyhedron *candidate = static_cast<FixParticletemplatePolyhedron *>(fix);
       if (candidate->shape_index_ == shape_index) return candidate;
     }
@@ -124,6 +170,6 @@ int FixParticletemplatePolyhedron::count(LAMMPS *lmp)
 {
   int n = 0;
   for (int i = 0; i < lmp->modify->nfix; i++)
-    if (strcmp(lmp->modify->fix[i]->style, kStyle) == 0) n++;
+    if (lmp->modify->fix[i] && strcmp(lmp->modify->fix[i]->style, kStyle) == 0) n++;
   return n;
 }

@@ -1,28 +1,47 @@
 /* fix particletemplate/polyhedron: a polyhedral shape read from a mesh file.
+ *
  * Templates are numbered 1, 2, ... in the order they are defined; that number
- * is the per-particle `shape` of atom_style polyhedron. */
+ * is the per-particle `shape` of atom_style polyhedron. The class derives from
+ * LIGGGHTS' FixTemplateSphere because fix particledistribution/discrete and
+ * the fix insert styles treat every "particletemplate/" style as one; the insertion
+ * methods report that polyhedral insertion is not available yet rather than
+ * insert spheres. */
 #ifdef FIX_CLASS
 #else
 
 #ifndef LMP_FIX_PARTICLETEMPLATE_POLYHEDRON_H
 #define LMP_FIX_PARTICLETEMPLATE_POLYHEDRON_H
 
-#include "fix.h"
+#include "fix_template_sphere.h"
 #include "poly_shape.h"
 
 namespace LAMMPS_NS {
 
-class FixParticletemplatePolyhedron : public Fix {
+class FixParticletemplatePolyhedron : public FixTemplateSphere {
  public:
   FixParticletemplatePolyhedron(class LAMMPS *, int, char **);
   ~FixParticletemplatePolyhedron();
-  int setmask() { return 0; }
 
   const poly_shape &shape() const { return shape_; }
   int shape_index() const { return shape_index_; }
-  int atom_type() const { return atom_type_; }
+  int particle_type() const { return atom_type; }
   double density() const { return density_; }
   const char *file() const { return file_; }
+
+  // What fix particledistribution/discrete asks of a template.
+  double volexpect() { return shape_.volume; }
+  double massexpect() { return shape_.volume * density_; }
+  double min_rad() { return shape_.bounding_radius; }
+  double max_rad() { return shape_.bounding_radius; }
+  double max_r_bound() { return shape_.bounding_radius; }
+  int number_spheres() { return 1; }
+  unsigned int generate_hash();
+
+  // Insertion through fix insert/* (not available yet: clear error, no spheres).
+  void init_ptilist(int, const bool, FixPropertyAtom *const);
+  void randomize_single();
+  void randomize_ptilist(int, int, int);
+  void direct_set_ptlist(const int, const void *const, const int, const int);
 
   // The template whose shape number is `shape_index` (1-based), or NULL.
   static FixParticletemplatePolyhedron *find(class LAMMPS *, int shape_index);
@@ -33,13 +52,13 @@ class FixParticletemplatePolyhedron : public Fix {
  private:
   poly_shape shape_;
   int shape_index_;
-  int atom_type_;
   double density_;
   double scale_;
   char *file_;
-  int seed_;
 
+  void parse_own_keywords(int narg, char **arg);
   void print_summary();
+  void insertion_not_supported();
 };
 
 }

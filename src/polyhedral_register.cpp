@@ -155,12 +155,14 @@ void Output::add_dump(int narg, char **arg)
     original_add_dump(this, narg, arg);
     return;
   }
+  // The original does the bookkeeping and its checks (dump ID, group,
+  // frequency) on a cheap stand-in style; then our object takes its slot.
   if (narg < 5) error->all(FLERR, "Illegal dump polyhedron/vtk command: expected ID group polyhedron/vtk N file");
-  Dump *ours = new DumpPolyhedronVTK(lmp, narg, arg);
   char stand_in_style[] = "xyz";
   char stand_in_file[] = "/dev/null";
   char *stand_in_args[5] = {arg[0], arg[1], stand_in_style, arg[3], stand_in_file};
   original_add_dump(this, 5, stand_in_args);
+  Dump *ours = new DumpPolyhedronVTK(lmp, narg, arg);
   delete dump[ndump - 1];
   dump[ndump - 1] = ours;
 }

@@ -3,7 +3,7 @@
 HEADER = """\
 atom_style polyhedron
 atom_modify map array sort 0 0
-boundary {boundary}
+{processors}boundary {boundary}
 newton off
 communicate single vel yes
 units si
@@ -15,8 +15,10 @@ TEMPLATE = ("fix {id} all particletemplate/polyhedron {seed} atom_type {atom_typ
             "density constant {density} file ${{SHAPES}}/{file} scale {scale}\n")
 
 
-def header(boundary="p p p", lo=0.0, hi=1.0, ntypes=1):
-    return HEADER.format(boundary=boundary, lo=lo, hi=hi, ntypes=ntypes)
+def header(boundary="p p p", lo=0.0, hi=1.0, ntypes=1, processors=None):
+    """processors: e.g. "2 1 1" to fix the decomposition (LIGGGHTS picks one otherwise)."""
+    grid = f"processors {processors}\n" if processors else ""
+    return HEADER.format(boundary=boundary, lo=lo, hi=hi, ntypes=ntypes, processors=grid)
 
 
 def template(id, file, scale=1.0, density=2500.0, atom_type=1, seed=15485863):

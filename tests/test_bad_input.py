@@ -18,7 +18,7 @@ def template_line(path, extra=""):
     ("degenerate.obj", ["degenerate.obj", "degenerate triangle", "zero area"]),
     ("disconnected.obj", ["disconnected.obj", "more than one connected component"]),
     ("garbage.obj", ["garbage.obj", "line 9", "references vertex 9"]),
-    ("truncated.stl", ["truncated.stl", "truncated"]),
+    ("truncated.stl", ["truncated.stl", "binary STL truncated"]),
     ("empty.off", ["empty.off", "no triangles"]),
     ("unknown.xyz", ["unknown.xyz", "unknown extension"]),
     ("does_not_exist.stl", ["does_not_exist.stl"]),
@@ -47,15 +47,13 @@ def test_inward_mesh_is_flipped_with_a_warning(run_deck):
 
 @pytest.mark.parametrize("line, expected", [
     (template_line("${SHAPES}/cube.stl", " colour red"), "unknown keyword"),
-    ("fix t all particletemplate/polyhedron 15485863 atom_type 1 file ${SHAPES}/cube.stl\n", "missing keyword 'density'"),
-    ("fix t all particletemplate/polyhedron 15485863 density constant 1 file ${SHAPES}/cube.stl\n",
-     "missing keyword 'atom_type'"),
+    ("fix t all particletemplate/polyhedron 15485863 atom_type 1 file ${SHAPES}/cube.stl\n", "have to define 'density'"),
     ("fix t all particletemplate/polyhedron 15485863 atom_type 1 density constant 1\n", "missing keyword 'file'"),
     ("fix t all particletemplate/polyhedron 15485863 atom_type 3 density constant 1 file ${SHAPES}/cube.stl\n",
      "atom type exceeds"),
     (template_line("${SHAPES}/cube.stl", " scale -2"), "scale must be > 0"),
     ("fix t all particletemplate/polyhedron 15485863 atom_type 1 density uniform 1 2 file ${SHAPES}/cube.stl\n",
-     "only 'density constant RHO'"),
+     "invalid density random style"),
     (template_line("${SHAPES}/cube.stl") + "create_polyhedron nothere 0.5 0.5 0.5\n",
      "'nothere' is not the ID of a fix particletemplate/polyhedron"),
     (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 2.5 0.5 0.5\n", "outside the simulation box"),
@@ -65,6 +63,14 @@ def test_inward_mesh_is_flipped_with_a_warning(run_deck):
     ("compute p all property/polyhedron colour\n", "unknown keyword"),
     ("fix n all nve/polyhedron extra\n", "takes no arguments"),
     ("dump d all polyhedron/vtk 10 no_star.vtp\n", "needs a '*'"),
+    (template_line("${SHAPES}/cube.stl") + template_line("${SHAPES}/rock_70.obj"), "cannot be redefined"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 1.0\n", "outside the simulation box"),
+    (template_line("${SHAPES}/cube.stl") +
+     "fix pdd all particledistribution/discrete 15485867 1 t 1.0\n"
+     "region r block 0.2 0.8 0.2 0.8 0.2 0.8\n"
+     "fix ins all insert/pack seed 32452843 distributiontemplate pdd insert_every once "
+     "overlapcheck yes particles_in_region 5 region r\nrun 1\n",
+     "inserting polyhedral particles with fix insert/* is not available yet"),
 ])
 def test_bad_command_is_an_error(run_deck, line, expected):
     result = run_deck(BOX + line)
@@ -85,3 +91,13 @@ def test_wrong_atom_style_or_missing_shape(run_deck, deck, expected):
     result = run_deck(deck)
     assert result.returncode != 0
     assert any(expected in line for line in result.error_lines()), result.output
+
+
+def test_set_density_changes_mass_not_shape(run_deck):
+    """`set density` is honoured: the mass follows density x template volume."""
+    result = run_deck(BOX + template_line("${SHAPES}/cube.stl", " scale 0.1") +
+                      "create_polyhedron t 0.5 0.5 0.5\nset atom 1 density 3000\n"
+                      "fix integrate all nve/polyhedron\ndump d all custom 1 mass.txt id mass\nrun 0\n")
+    assert result.returncode == 0, result.output
+    _, rows = decks.read_dump(result.workdir / "mass.txt")
+    assert abs(rows[1][1] - 3000 * 0.1 ** 3) < 1e-12

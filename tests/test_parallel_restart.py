@@ -10,8 +10,8 @@ import numpy as np
 import decks
 
 COLUMNS = "id type x y z vx vy vz omegax omegay omegaz angmomx angmomy angmomz " \
-          "c_p[1] c_p[2] c_p[3] c_p[4] c_p[5]"
-FORMAT = " ".join(["%d", "%d"] + ["%.17g"] * 17)
+          "c_p[1] c_p[2] c_p[3] c_p[4] c_p[5] ix iy iz"
+FORMAT = " ".join(["%d", "%d"] + ["%.17g"] * 17 + ["%d"] * 3)
 
 
 def cloud(n=60, seed=7):
@@ -56,21 +56,25 @@ def compare(rows_a, rows_b, tolerance):
 
 
 def test_one_and_two_ranks_give_the_same_trajectories(run_deck, tmp_path):
-    deck = decks.header(ntypes=2) + templates() + cloud() + integration(1000) + "run 4000\n"
+    deck = decks.header(ntypes=2, processors="* 1 1") + templates() + cloud() + integration(1000) + "run 4000\n"
     serial = run_deck(deck, workdir=tmp_path / "serial")
     parallel = run_deck(deck, nprocs=2, workdir=tmp_path / "parallel")
     assert serial.returncode == 0, serial.output
     assert parallel.returncode == 0, parallel.output
-    assert "1 by 1 by 2" in parallel.output or "2 by 1 by 1" in parallel.output
+    assert "2 by 1 by 1 MPI processor grid" in parallel.output
     snapshots_serial = decks.read_all_dump_snapshots(serial.workdir / "state.txt")
     snapshots_parallel = decks.read_all_dump_snapshots(parallel.workdir / "state.txt")
     assert len(snapshots_serial) == len(snapshots_parallel) == 5
-    # The cloud really moves between the two ranks' halves (x < 0.5, x >= 0.5) between snapshots.
+    # The cloud really moves between the two ranks' halves (x < 0.5, x >= 0.5) between snapshots,
+    # and across the periodic faces (image flags change).
     x_column = snapshots_serial[0][1].index("x")
     crossings = sum(1 for (_, _, before), (_, _, after) in zip(snapshots_serial, snapshots_serial[1:])
                     for atom_id in before if (before[atom_id][x_column] < 0.5) != (after[atom_id][x_column] < 0.5))
     print(f"particles changing rank half between snapshots: {crossings}")
     assert crossings >= 20, crossings
+    ix = snapshots_serial[0][1].index("ix")
+    wrapped = sum(1 for row in snapshots_serial[-1][2].values() if row[ix] != 0)
+    assert wrapped >= 10, wrapped
     for (step_a, _, rows_a), (step_b, _, rows_b) in zip(snapshots_serial, snapshots_parallel):
         assert step_a == step_b
         assert len(rows_a) == 60  # no particle lost

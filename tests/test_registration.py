@@ -26,19 +26,19 @@ def test_launcher_links_libpolyhedral_before_libliggghts(launcher):
     assert names.index("libpolyhedral.so") < names.index("libliggghts.so.3"), names
 
 
-def one_cube_simulation(speed):
+def one_cube_simulation(speed, dump_name):
     return (decks.header(hi=10.0) + decks.template("cube", "cube.stl", scale=0.5, density=2000.0) +
             f"create_polyhedron cube 5 5 5 vel {speed} 0 0\n"
             "fix integrate all nve/polyhedron\n"
             "compute erot all erotate/polyhedron\n"
             "compute props all property/polyhedron shape volume\n"
             "thermo_style custom step atoms ke c_erot\n"
-            "dump shapes all polyhedron/vtk 10 surface_*.vtp\n"
+            f"dump shapes all polyhedron/vtk 10 {dump_name}_*.vtp\n"
             "timestep 1e-3\nrun 10\n")
 
 
 def test_every_style_is_available_again_after_clear(run_deck):
-    result = run_deck(one_cube_simulation(1.0) + "clear\n" + one_cube_simulation(2.0))
+    result = run_deck(one_cube_simulation(1.0, "first") + "clear\n" + one_cube_simulation(2.0, "second"))
     assert result.returncode == 0, result.output
     ke = result.thermo("KinEng")["KinEng"]
     mass = 2000.0 * 0.5 ** 3
@@ -46,7 +46,7 @@ def test_every_style_is_available_again_after_clear(run_deck):
     assert len(ke) == 4
     assert abs(ke[0] - 0.5 * mass * 1.0) < 1e-9 * mass
     assert abs(ke[-1] - 0.5 * mass * 4.0) < 1e-9 * mass
-    assert (result.workdir / "surface_10.vtp").exists()
+    assert (result.workdir / "first_10.vtp").exists() and (result.workdir / "second_10.vtp").exists()
 
 
 def test_stock_styles_and_errors_are_untouched(run_deck):
