@@ -1,0 +1,152 @@
+/* Double and single precision instances of the overlap computation
+ * (poly_overlap_impl.h), shape views and workspaces. */
+#include "poly_overlap.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define POLY_REAL double
+#define POLY_FN(name) poly_##name##_d
+#include "poly_overlap_impl.h"
+#undef POLY_REAL
+#undef POLY_FN
+
+#define POLY_REAL float
+#define POLY_FN(name) poly_##name##_f
+#include "poly_overlap_impl.h"
+#undef POLY_REAL
+#undef POLY_FN
+
+poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
+{
+  poly_shape_view_d view;
+  view.num_vertices = shape->num_vertices;
+  view.num_triangles = shape->num_triangles;
+  view.num_edges = shape->num_edges;
+  view.vertices = shape->vertices;
+  view.face_normals = shape->face_normals;
+  view.triangles = shape->triangles;
+  view.edges = shape->edges;
+  view.edge_triangles = shape->edge_triangles;
+  view.bounding_radius = shape->bounding_radius;
+  return view;
+}
+
+int poly_shape_view_make_f(const poly_shape *shape, poly_shape_view_f *view)
+{
+  memset(view, 0, sizeof *view);
+  float *vertices = (float *)malloc(sizeof(float) * 3 * (size_t)shape->num_vertices);
+  float *normals = (float *)malloc(sizeof(float) * 3 * (size_t)shape->num_triangles);
+  if (!vertices || !normals) {
+    free(vertices);
+    free(normals);
+    return -1;
+  }
+  for (int i = 0; i < 3 * shape->num_vertices; i++) vertices[i] = (float)shape->vertices[i];
+  for (int i = 0; i < 3 * shape->num_triangles; i++) normals[i] = (float)shape->face_normals[i];
+  view->num_vertices = shape->num_vertices;
+  view->num_triangles = shape->num_triangles;
+  view->num_edges = shape->num_edges;
+  view->vertices = vertices;
+  view->face_normals = normals;
+  view->triangles = shape->triangles;
+  view->edges = shape->edges;
+  view->edge_triangles = shape->edge_triangles;
+  view->bounding_radius = (float)shape->bounding_radius;
+  return 0;
+}
+
+void poly_shape_view_free_f(poly_shape_view_f *view)
+{
+  free((void *)view->vertices);
+  free((void *)view->face_normals);
+  memset(view, 0, sizeof *view);
+}
+
+#define POLY_WORKSPACE_FUNCTIONS(REAL, SUFFIX)                                                           \
+  void poly_overlap_workspace_destroy##SUFFIX(poly_overlap_workspace##SUFFIX *ws)                       \
+  {                                                                                                     \
+    free(ws->vertices_a); free(ws->vertices_b); free(ws->planes_a); free(ws->planes_b);                 \
+    free(ws->normals_b); free(ws->kept_a); free(ws->kept_b); free(ws->inside_a); free(ws->inside_b);    \
+    free(ws->crossings); free(ws->points);                                                              \
+    memset(ws, 0, sizeof *ws);                                                                          \
+  }                                                                                                     \
+  int poly_overlap_workspace_create##SUFFIX(poly_overlap_workspace##SUFFIX *ws, int max_vertices,       \
+                                            int max_triangles)                                          \
+  {                                                                                                     \
+    memset(ws, 0, sizeof *ws);                                                                          \
+    size_t nv = (size_t)(max_vertices > 0 ? max_vertices : 1);                                          \
+    size_t nt = (size_t)(max_triangles > 0 ? max_triangles : 1);                                        \
+    /* Nodes: vertices inside plus edge crossings; a few per triangle covers any */                     \
+    /* realistic overlap, and more are found again rather than lost. */                                 \
+    size_t np = 2 * nv + 4 * nt + 64;                                                                   \
+    ws->capacity_vertices = (int)nv;                                                                    \
+    ws->capacity_triangles = (int)nt;                                                                   \
+    ws->capacity_points = (int)np;                                                                      \
+    ws->use_filter = 1;                                                                                 \
+    ws->vertices_a = (REAL *)malloc(sizeof(REAL) * 3 * nv);                                             \
+    ws->vertices_b = (REAL *)malloc(sizeof(REAL) * 3 * nv);                                             \
+    ws->planes_a = (REAL *)malloc(sizeof(REAL) * 3 * nt);                                               \
+    ws->planes_b = (REAL *)malloc(sizeof(REAL) * 3 * nt);                                               \
+    ws->normals_b = (REAL *)malloc(sizeof(REAL) * 3 * nt);                                              \
+    ws->kept_a = (unsigned char *)malloc(nt);                                                           \
+    ws->kept_b = (unsigned char *)malloc(nt);                                                           \
+    ws->inside_a = (unsigned char *)malloc(nv);                                                         \
+    ws->inside_b = (unsigned char *)malloc(nv);                                                         \
+    ws->crossings = (REAL *)malloc(sizeof(REAL) * nt);                                                  \
+    ws->points = (REAL *)malloc(sizeof(REAL) * 3 * np);                                                 \
+    if (!ws->vertices_a || !ws->vertices_b || !ws->planes_a || !ws->planes_b || !ws->normals_b ||       \
+        !ws->kept_a || !ws->kept_b || !ws->inside_a || !ws->inside_b || !ws->crossings || !ws->points) { \
+      poly_overlap_workspace_destroy##SUFFIX(ws);                                                       \
+      return -1;                                                                                        \
+    }                                                                                                   \
+    return 0;                                                                                           \
+  }
+
+POLY_WORKSPACE_FUNCTIONS(double, _d)
+POLY_WORKSPACE_FUNCTIONS(float, _f)
+
+/* B's body frame in A's: rotation R_A^T R_B, translation R_A^T (x_B - x_A),
+ * with the position difference taken in double before anything else. */
+static void poly_relative_pose(const poly_pose *pose_a, const poly_pose *pose_b, double rotation_a[9],
+                               double rotation[9], double translation[3])
+{
+  double rotation_b[9], difference[3];
+  poly_quat_to_matrix(pose_a->quaternion, rotation_a);
+  poly_quat_to_matrix(pose_b->quaternion, rotation_b);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      rotation[3 * i + j] = rotation_a[i] * rotation_b[j] + rotation_a[3 + i] * rotation_b[3 + j] +
+                            rotation_a[6 + i] * rotation_b[6 + j];
+  for (int k = 0; k < 3; k++) difference[k] = pose_b->position[k] - pose_a->position[k];
+  poly_matrix_apply_transpose(rotation_a, difference, translation);
+}
+
+static void poly_result_to_world(const poly_pose *pose_a, const double rotation_a[9], const double *local_centroid,
+                                 const double *local_normal, poly_overlap_result *result)
+{
+  if (!(result->volume > 0.0)) {
+    memset(result->centroid, 0, sizeof result->centroid);
+    memset(result->normal, 0, sizeof result->normal);
+    return;
+  }
+  poly_matrix_apply(rotation_a, local_centroid, result->centroid);
+  for (int k = 0; k < 3; k++) result->centroid[k] += pose_a->position[k];
+  poly_matrix_apply(rotation_a, local_normal, result->normal);
+}
+
+#define POLY_OVERLAP_ENTRY(SUFFIX)                                                                     \
+  void poly_overlap##SUFFIX(const poly_shape_view##SUFFIX *a, const poly_pose *pose_a,                \
+                            const poly_shape_view##SUFFIX *b, const poly_pose *pose_b,                \
+                            poly_overlap_workspace##SUFFIX *ws, poly_overlap_result *result)          \
+  {                                                                                                   \
+    double rotation_a[9], rotation[9], translation[3], local_centroid[3] = {0, 0, 0},                 \
+           local_normal[3] = {0, 0, 0};                                                               \
+    poly_relative_pose(pose_a, pose_b, rotation_a, rotation, translation);                            \
+    poly_overlap_local##SUFFIX(a, b, rotation, translation, ws, local_centroid, local_normal, result); \
+    poly_result_to_world(pose_a, rotation_a, local_centroid, local_normal, result);                   \
+  }
+
+POLY_OVERLAP_ENTRY(_d)
+POLY_OVERLAP_ENTRY(_f)

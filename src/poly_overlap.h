@@ -1,0 +1,113 @@
+/* Exact intersection of two closed triangulated shapes: volume, centroid,
+ * contact normal and depth of the overlap, for the volumetric contact law.
+ *
+ * Method (document 000, sec. 5): the intersection I = A n B is bounded by the
+ * part of A's surface inside B and the part of B's surface inside A. By the
+ * divergence theorem its volume and first moment are sums over the boundary,
+ * and each planar facet's share can be written as a sum over its oriented
+ * boundary segments, each independently: a segment (x1, x2) on the plane of
+ * triangle t adds the signed tetrahedron (O, c_t, x1, x2), c_t any point of
+ * that plane. This is the edge-local form of the cusp construction
+ * (eqs. 5.7-5.11): no triangulation of I, no convex decomposition, so
+ * non-convex shapes are first-class. The boundary segments are
+ *   - the parts of each edge of A lying inside B (and of B inside A), found by
+ *     sorting the edge's crossings with the other surface and toggling from the
+ *     inside/outside state of the edge's first vertex, and
+ *   - the intersection segment of every pair of crossing triangles (t of A,
+ *     s of B), oriented along n_t x n_s on t and reversed on s.
+ * Triangles are first filtered by the two half-spaces along the centre line
+ * (eqs. 5.3-5.5); everything runs in the body frame of A, shifted to the
+ * middle of that slab, so accuracy does not depend on where the pair is.
+ *
+ * Degenerate configurations (a vertex on a face, an edge on an edge, coplanar
+ * faces, identical shapes in identical poses) are decided as if B were moved
+ * by an infinitesimal fixed generic translation (simulation of simplicity):
+ * every predicate that evaluates to exactly zero takes the sign of its
+ * first-order term in that translation, and every predicate is evaluated on
+ * canonically ordered vertices so that neighbouring triangles agree. The
+ * result is the limit of the nearby generic configuration: finite, and
+ * continuous in the poses.
+ *
+ * The same code is compiled in double (suffix _d) and single (suffix _f)
+ * precision from poly_overlap_impl.h; poses and results are always double.
+ */
+#ifndef POLY_OVERLAP_H
+#define POLY_OVERLAP_H
+
+#include <stddef.h>
+
+#include "poly_rigid.h"
+#include "poly_shape.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Position of the centre of mass and body-to-world orientation. */
+typedef struct poly_pose {
+  double position[3];
+  double quaternion[4];
+} poly_pose;
+
+typedef struct poly_overlap_result {
+  double volume;          /* of the intersection */
+  double centroid[3];     /* world frame */
+  double normal[3];       /* unit, world frame, pointing from particle A towards particle B */
+  double depth;           /* extent of the intersection along normal */
+  double area;            /* area of A's surface inside B */
+  int num_nodes;          /* intersection nodes: vertices inside the other shape + edge-face crossings */
+  int num_inconsistent;   /* edges whose crossings disagreed with their end vertices (rounding); 0 normally */
+  int filtered_out;       /* 1 when the half-space filter proved there is no overlap */
+} poly_overlap_result;
+
+#define POLY_OVERLAP_DECLARE(REAL, SUFFIX)                                                            \
+  typedef struct poly_shape_view##SUFFIX {                                                           \
+    int num_vertices, num_triangles, num_edges;                                                     \
+    const REAL *vertices;     /* 3 * num_vertices, body frame */                                    \
+    const REAL *face_normals; /* 3 * num_triangles, unit outward */                                 \
+    const int *triangles;     /* 3 * num_triangles */                                               \
+    const int *edges;         /* 2 * num_edges, first < second */                                   \
+    const int *edge_triangles;/* 2 * num_edges: first runs first->second, second the reverse */     \
+    REAL bounding_radius;                                                                            \
+  } poly_shape_view##SUFFIX;                                                                        \
+  /* Scratch memory for one pair at a time, sized once for the largest shapes. */                   \
+  typedef struct poly_overlap_workspace##SUFFIX {                                                   \
+    int capacity_vertices, capacity_triangles, capacity_points;                                     \
+    int use_filter;                    /* 1 (default): half-space triangle filter; 0: all triangles */ \
+    REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
+    REAL *planes_a, *planes_b;         /* unnormalised normals for the predicates, 3 * capacity_triangles */ \
+    REAL *normals_b;                   /* B's unit normals in the local frame */                   \
+    unsigned char *kept_a, *kept_b;    /* triangles that survive the half-space filter */           \
+    unsigned char *inside_a, *inside_b;/* vertex of A inside B, and vice versa */                   \
+    REAL *crossings;                   /* crossing parameters along one edge, capacity_triangles */ \
+    REAL *points;                      /* intersection nodes, 3 * capacity_points */                \
+  } poly_overlap_workspace##SUFFIX;
+
+POLY_OVERLAP_DECLARE(double, _d)
+POLY_OVERLAP_DECLARE(float, _f)
+
+/* View of a double-precision shape (no copy). */
+poly_shape_view_d poly_shape_view_of(const poly_shape *shape);
+
+/* Single-precision copy of a shape's geometry; free with poly_shape_view_free_f. */
+int poly_shape_view_make_f(const poly_shape *shape, poly_shape_view_f *view);
+void poly_shape_view_free_f(poly_shape_view_f *view);
+
+/* Workspace for shapes of at most these sizes; 0 on success. */
+int poly_overlap_workspace_create_d(poly_overlap_workspace_d *ws, int max_vertices, int max_triangles);
+int poly_overlap_workspace_create_f(poly_overlap_workspace_f *ws, int max_vertices, int max_triangles);
+void poly_overlap_workspace_destroy_d(poly_overlap_workspace_d *ws);
+void poly_overlap_workspace_destroy_f(poly_overlap_workspace_f *ws);
+
+/* The overlap of shape a at pose_a with shape b at pose_b. The workspace must
+ * have been created for shapes at least as large as both. */
+void poly_overlap_d(const poly_shape_view_d *a, const poly_pose *pose_a, const poly_shape_view_d *b,
+                    const poly_pose *pose_b, poly_overlap_workspace_d *ws, poly_overlap_result *result);
+void poly_overlap_f(const poly_shape_view_f *a, const poly_pose *pose_a, const poly_shape_view_f *b,
+                    const poly_pose *pose_b, poly_overlap_workspace_f *ws, poly_overlap_result *result);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

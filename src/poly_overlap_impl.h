@@ -1,0 +1,493 @@
+/* Body of the overlap computation, written once for a scalar type.
+ * Include with POLY_REAL (double or float) and POLY_FN(name) (name with a
+ * precision suffix) defined; see poly_overlap.h for the method. Everything is
+ * static inline, so the CUDA path can include it too. */
+#if !defined(POLY_REAL) || !defined(POLY_FN)
+#error "define POLY_REAL and POLY_FN before including poly_overlap_impl.h"
+#endif
+
+#include <math.h>
+
+typedef POLY_REAL POLY_FN(real);
+#define R POLY_FN(real)
+
+/* Fixed generic direction of the symbolic perturbation of B (body frame of A).
+ * Irrational-looking components so that no mesh normal or edge of practical
+ * interest is orthogonal to it. */
+POLY_INLINE const R *POLY_FN(perturbation)(void)
+{
+  static const R direction[3] = {(R)0.7431448254773942, (R)0.5219894423148289, (R)0.4186764212365043};
+  return direction;
+}
+
+POLY_INLINE R POLY_FN(dot)(const R *a, const R *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+POLY_INLINE void POLY_FN(sub)(const R *a, const R *b, R *out)
+{
+  out[0] = a[0] - b[0]; out[1] = a[1] - b[1]; out[2] = a[2] - b[2];
+}
+
+POLY_INLINE void POLY_FN(cross)(const R *a, const R *b, R *out)
+{
+  R x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2], z = a[0] * b[1] - a[1] * b[0];
+  out[0] = x; out[1] = y; out[2] = z;
+}
+
+POLY_INLINE R POLY_FN(det)(const R *a, const R *b, const R *c)
+{
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+POLY_INLINE int POLY_FN(same_point)(const R *a, const R *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+
+/* Sign of (value + epsilon * first_order) for infinitesimal epsilon > 0. */
+POLY_INLINE int POLY_FN(perturbed_sign)(R value, R first_order)
+{
+  if (value > 0) return 1;
+  if (value < 0) return -1;
+  return first_order > 0 ? 1 : -1;
+}
+
+/* Does the segment p0 -> p1 of one body cross triangle `tri` (vertices in
+ * `vertices`, plane normal `plane` = (v1-v0) x (v2-v0)) of the other body?
+ * `segment_in_b` says which body the segment belongs to: B carries the
+ * perturbation. Triangle edges are evaluated in ascending vertex order so the
+ * two triangles sharing an edge see the identical number. On a crossing,
+ * *lambda is the crossing parameter along the segment. */
+POLY_INLINE int POLY_FN(segment_crosses_triangle)(const R *p0, const R *p1, int segment_in_b, const R *vertices,
+                                                   const int *tri, const R *plane, R *lambda)
+{
+  const R *u = POLY_FN(perturbation)();
+  const R *c0 = vertices + 3 * tri[0], *c1 = vertices + 3 * tri[1], *c2 = vertices + 3 * tri[2];
+  R offset0[3], offset1[3];
+  POLY_FN(sub)(p0, c0, offset0);
+  POLY_FN(sub)(p1, c0, offset1);
+  /* A point that coincides with a corner is on the plane exactly; rounding
+   * must not say otherwise, or touching and identical shapes would be decided
+   * differently by neighbouring triangles. */
+  R side0 = (POLY_FN(same_point)(p0, c1) || POLY_FN(same_point)(p0, c2)) ? (R)0 : POLY_FN(dot)(plane, offset0);
+  R side1 = (POLY_FN(same_point)(p1, c1) || POLY_FN(same_point)(p1, c2)) ? (R)0 : POLY_FN(dot)(plane, offset1);
+  R side_first_order = (segment_in_b ? (R)1 : (R)-1) * POLY_FN(dot)(plane, u);
+  int sign0 = POLY_FN(perturbed_sign)(side0, side_first_order);
+  int sign1 = POLY_FN(perturbed_sign)(side1, side_first_order);
+  if (sign0 == sign1) return 0;
+
+  R direction[3];
+  POLY_FN(sub)(p1, p0, direction);
+  int common = 0;
+  for (int k = 0; k < 3; k++) {
+    int from = tri[k], to = tri[k == 2 ? 0 : k + 1];
+    int low = from < to ? from : to, high = from < to ? to : from;
+    const R *q0 = vertices + 3 * low, *q1 = vertices + 3 * high;
+    R a[3], b[3], edge[3];
+    POLY_FN(sub)(q0, p0, a);
+    POLY_FN(sub)(q1, p0, b);
+    POLY_FN(sub)(q1, q0, edge);
+    int touching = POLY_FN(same_point)(p0, q0) || POLY_FN(same_point)(p0, q1) || POLY_FN(same_point)(p1, q0) ||
+                   POLY_FN(same_point)(p1, q1);
+    R orientation = touching ? (R)0 : POLY_FN(det)(direction, a, b);
+    R first_order = (segment_in_b ? (R)-1 : (R)1) * POLY_FN(det)(direction, u, edge);
+    int sign = POLY_FN(perturbed_sign)(orientation, first_order) * (from < to ? 1 : -1);
+    if (k == 0) common = sign;
+    else if (sign != common) return 0;
+  }
+  if (side0 == 0) *lambda = 0;
+  else if (side1 == 0) *lambda = 1;
+  else {
+    R t = side0 / (side0 - side1);
+    *lambda = t < 0 ? 0 : (t > 1 ? 1 : t);
+  }
+  return 1;
+}
+
+/* Running sums of the signed tetrahedra (O, c, x1, x2). */
+typedef struct POLY_FN(accumulator) {
+  R volume6;     /* 6 V */
+  R moment24[3]; /* 24 V c */
+  R area_normal[3]; /* sum of area * unit normal over A's facets (eq. 4.19) */
+  R area;
+} POLY_FN(accumulator);
+
+POLY_INLINE void POLY_FN(add_segment)(POLY_FN(accumulator) *acc, const R *plane_point, const R *x1, const R *x2,
+                                      const R *unit_normal_of_a)
+{
+  R v6 = POLY_FN(det)(plane_point, x1, x2);
+  acc->volume6 += v6;
+  for (int k = 0; k < 3; k++) acc->moment24[k] += v6 * (plane_point[k] + x1[k] + x2[k]);
+  if (unit_normal_of_a) {
+    R e1[3], e2[3], c[3];
+    POLY_FN(sub)(x1, plane_point, e1);
+    POLY_FN(sub)(x2, plane_point, e2);
+    POLY_FN(cross)(e1, e2, c);
+    R area = (R)0.5 * POLY_FN(dot)(unit_normal_of_a, c);
+    acc->area += area;
+    for (int k = 0; k < 3; k++) acc->area_normal[k] += area * unit_normal_of_a[k];
+  }
+}
+
+POLY_INLINE void POLY_FN(add_point)(POLY_FN(overlap_workspace) *ws, int *count, const R *x)
+{
+  if (*count < ws->capacity_points) {
+    R *slot = ws->points + 3 * *count;
+    slot[0] = x[0]; slot[1] = x[1]; slot[2] = x[2];
+  }
+  (*count)++;
+}
+
+/* Parity of crossings of the ray from x along `ray` with the kept triangles of `body`. */
+POLY_INLINE int POLY_FN(point_inside)(const R *x, const R *ray, R ray_length, int point_in_b, const R *vertices,
+                                      const int *triangles, const R *planes, const unsigned char *kept,
+                                      int num_triangles)
+{
+  R far_end[3];
+  for (int k = 0; k < 3; k++) far_end[k] = x[k] + ray_length * ray[k];
+  int crossings = 0;
+  for (int t = 0; t < num_triangles; t++) {
+    if (!kept[t]) continue;
+    R lambda;
+    crossings += POLY_FN(segment_crosses_triangle)(x, far_end, point_in_b, vertices, triangles + 3 * t,
+                                                   planes + 3 * t, &lambda);
+  }
+  return crossings & 1;
+}
+
+/* Inside parts of every edge of `mine` (crossing `other`): each adds a segment to
+ * both triangles of the edge, in their own orientations. */
+POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, const R *my_vertices,
+                                           const R *my_unit_normals, const unsigned char *my_inside, int mine_is_b,
+                                           const POLY_FN(shape_view) *other, const R *other_vertices,
+                                           const R *other_planes, const unsigned char *other_kept, const R *axis,
+                                           R slab_limit, POLY_FN(overlap_workspace) *ws,
+                                           POLY_FN(accumulator) *acc, int *num_points, int *num_inconsistent)
+{
+  for (int e = 0; e < mine->num_edges; e++) {
+    int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
+    const R *p0 = my_vertices + 3 * v0, *p1 = my_vertices + 3 * v1;
+    R d0 = POLY_FN(dot)(p0, axis), d1 = POLY_FN(dot)(p1, axis);
+    /* The other body lies beyond slab_limit along +axis for A, below it for B. */
+    if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) continue;
+
+    int count = 0;
+    for (int t = 0; t < other->num_triangles; t++) {
+      if (!other_kept[t]) continue;
+      R lambda;
+      if (POLY_FN(segment_crosses_triangle)(p0, p1, mine_is_b, other_vertices, other->triangles + 3 * t,
+                                            other_planes + 3 * t, &lambda)) {
+        /* Insertion sort: an edge crosses a handful of triangles. */
+        int slot = count++;
+        while (slot > 0 && ws->crossings[slot - 1] > lambda) {
+          ws->crossings[slot] = ws->crossings[slot - 1];
+          slot--;
+        }
+        ws->crossings[slot] = lambda;
+      }
+    }
+    int inside = my_inside[v0];
+    if (((inside + count) & 1) != my_inside[v1]) (*num_inconsistent)++;
+    if (count == 0 && !inside) continue;
+
+    R direction[3];
+    POLY_FN(sub)(p1, p0, direction);
+    R start = 0;
+    int forward = mine->edge_triangles[2 * e], backward = mine->edge_triangles[2 * e + 1];
+    const int *tri_forward = mine->triangles + 3 * forward, *tri_backward = mine->triangles + 3 * backward;
+    for (int c = 0; c <= count; c++) {
+      R stop = c < count ? ws->crossings[c] : (R)1;
+      if (c < count) {
+        R x[3];
+        for (int k = 0; k < 3; k++) x[k] = p0[k] + stop * direction[k];
+        POLY_FN(add_point)(ws, num_points, x);
+      }
+      if (inside && stop > start) {
+        R x1[3], x2[3];
+        for (int k = 0; k < 3; k++) {
+          x1[k] = p0[k] + start * direction[k];
+          x2[k] = p0[k] + stop * direction[k];
+        }
+        POLY_FN(add_segment)(acc, my_vertices + 3 * tri_forward[0], x1, x2,
+                             mine_is_b ? 0 : my_unit_normals + 3 * forward);
+        POLY_FN(add_segment)(acc, my_vertices + 3 * tri_backward[0], x2, x1,
+                             mine_is_b ? 0 : my_unit_normals + 3 * backward);
+      }
+      inside = !inside;
+      start = stop;
+    }
+  }
+}
+
+/* Intersection segment of triangle t of A with triangle s of B, if they cross. */
+POLY_INLINE void POLY_FN(accumulate_triangle_pair)(const POLY_FN(shape_view) *a, const R *va, const R *planes_a,
+                                                   const R *normals_a, int t, const POLY_FN(shape_view) *b,
+                                                   const R *vb, const R *planes_b, const R *normals_b, int s,
+                                                   POLY_FN(accumulator) *acc)
+{
+  const int *ta = a->triangles + 3 * t, *tb = b->triangles + 3 * s;
+  R ends[2][3];
+  int found = 0;
+  for (int k = 0; k < 3 && found <= 2; k++) {
+    int from = ta[k], to = ta[k == 2 ? 0 : k + 1];
+    int low = from < to ? from : to, high = from < to ? to : from;
+    R lambda;
+    if (POLY_FN(segment_crosses_triangle)(va + 3 * low, va + 3 * high, 0, vb, tb, planes_b + 3 * s, &lambda)) {
+      if (found < 2)
+        for (int i = 0; i < 3; i++) ends[found][i] = va[3 * low + i] + lambda * (va[3 * high + i] - va[3 * low + i]);
+      found++;
+    }
+  }
+  for (int k = 0; k < 3 && found <= 2; k++) {
+    int from = tb[k], to = tb[k == 2 ? 0 : k + 1];
+    int low = from < to ? from : to, high = from < to ? to : from;
+    R lambda;
+    if (POLY_FN(segment_crosses_triangle)(vb + 3 * low, vb + 3 * high, 1, va, ta, planes_a + 3 * t, &lambda)) {
+      if (found < 2)
+        for (int i = 0; i < 3; i++) ends[found][i] = vb[3 * low + i] + lambda * (vb[3 * high + i] - vb[3 * low + i]);
+      found++;
+    }
+  }
+  if (found != 2) return;
+  const R *na = normals_a + 3 * t, *nb = normals_b + 3 * s;
+  R along[3], chord[3];
+  POLY_FN(cross)(na, nb, along);
+  POLY_FN(sub)(ends[1], ends[0], chord);
+  const R *first = ends[0], *second = ends[1];
+  if (POLY_FN(dot)(along, chord) < 0) { first = ends[1]; second = ends[0]; }
+  POLY_FN(add_segment)(acc, va + 3 * ta[0], first, second, na);
+  POLY_FN(add_segment)(acc, vb + 3 * tb[0], second, first, 0);
+}
+
+POLY_INLINE void POLY_FN(triangle_bounds)(const R *vertices, const int *tri, R *low, R *high)
+{
+  for (int k = 0; k < 3; k++) {
+    R x = vertices[3 * tri[0] + k], y = vertices[3 * tri[1] + k], z = vertices[3 * tri[2] + k];
+    low[k] = x < y ? (x < z ? x : z) : (y < z ? y : z);
+    high[k] = x > y ? (x > z ? x : z) : (y > z ? y : z);
+  }
+}
+
+/* Extent along `direction` of the vertices of `mine` inside `other` and of the
+ * crossings of its edges with `other`'s kept triangles. */
+POLY_INLINE void POLY_FN(node_extent)(const POLY_FN(shape_view) *mine, const R *my_vertices,
+                                      const unsigned char *my_inside, int mine_is_b,
+                                      const POLY_FN(shape_view) *other, const R *other_vertices,
+                                      const R *other_planes, const unsigned char *other_kept,
+                                      const double *direction, double *low, double *high)
+{
+  for (int i = 0; i < mine->num_vertices; i++) {
+    if (!my_inside[i]) continue;
+    const R *x = my_vertices + 3 * i;
+    double along = direction[0] * x[0] + direction[1] * x[1] + direction[2] * x[2];
+    if (along < *low) *low = along;
+    if (along > *high) *high = along;
+  }
+  for (int e = 0; e < mine->num_edges; e++) {
+    const R *p0 = my_vertices + 3 * mine->edges[2 * e], *p1 = my_vertices + 3 * mine->edges[2 * e + 1];
+    for (int t = 0; t < other->num_triangles; t++) {
+      R lambda;
+      if (!other_kept[t] || !POLY_FN(segment_crosses_triangle)(p0, p1, mine_is_b, other_vertices,
+                                                                other->triangles + 3 * t, other_planes + 3 * t,
+                                                                &lambda))
+        continue;
+      double along = 0.0;
+      for (int k = 0; k < 3; k++) along += direction[k] * (double)(p0[k] + lambda * (p1[k] - p0[k]));
+      if (along < *low) *low = along;
+      if (along > *high) *high = along;
+    }
+  }
+}
+
+/* The overlap in the local frame (body frame of A shifted to `origin`).
+ * `rotation` (row-major) and `translation` take B's body frame to A's. */
+POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                        const double *rotation, const double *translation,
+                                        POLY_FN(overlap_workspace) *ws, double *local_centroid,
+                                        double *local_normal, poly_overlap_result *result)
+{
+  result->volume = result->depth = result->area = 0.0;
+  result->num_nodes = result->num_inconsistent = 0;
+  result->filtered_out = 0;
+
+  /* Filtering direction (eq. 5.3): the centre line; any direction is valid. */
+  double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
+                         translation[2] * translation[2]);
+  double axis_d[3] = {1.0, 0.0, 0.0};
+  if (distance > 1e-12 * ((double)a->bounding_radius + (double)b->bounding_radius))
+    for (int k = 0; k < 3; k++) axis_d[k] = translation[k] / distance;
+
+  /* B's vertices in A's body frame (double), extents along the axis (eq. 5.4). */
+  double extent_a = -1e300, extent_b = 1e300;
+  for (int i = 0; i < a->num_vertices; i++) {
+    const R *v = a->vertices + 3 * i;
+    double along = axis_d[0] * v[0] + axis_d[1] * v[1] + axis_d[2] * v[2];
+    if (along > extent_a) extent_a = along;
+  }
+  for (int j = 0; j < b->num_vertices; j++) {
+    const R *v = b->vertices + 3 * j;
+    double along = 0.0;
+    for (int k = 0; k < 3; k++) {
+      double w = rotation[3 * k] * v[0] + rotation[3 * k + 1] * v[1] + rotation[3 * k + 2] * v[2] + translation[k];
+      along += axis_d[k] * w;
+    }
+    if (along < extent_b) extent_b = along;
+  }
+  if (extent_b > extent_a) {
+    result->filtered_out = 1;
+    return;
+  }
+  if (!ws->use_filter) {
+    /* Benchmark baseline: a slab that holds both bodies entirely. */
+    extent_a += 4.0 * ((double)a->bounding_radius + (double)b->bounding_radius);
+    extent_b -= 4.0 * ((double)a->bounding_radius + (double)b->bounding_radius);
+  }
+  /* Local origin in the middle of the slab on the centre line: the signed
+   * tetrahedra are then the size of the overlap, not of the particles. */
+  double middle = 0.5 * (extent_a + extent_b);
+  double origin[3] = {axis_d[0] * middle, axis_d[1] * middle, axis_d[2] * middle};
+  R axis[3] = {(R)axis_d[0], (R)axis_d[1], (R)axis_d[2]};
+  R limit_a = (R)(extent_b - middle); /* B lies at >= limit_a along the axis */
+  R limit_b = (R)(extent_a - middle); /* A lies at <= limit_b */
+
+  R *va = ws->vertices_a, *vb = ws->vertices_b;
+  for (int i = 0; i < a->num_vertices; i++)
+    for (int k = 0; k < 3; k++) va[3 * i + k] = (R)((double)a->vertices[3 * i + k] - origin[k]);
+  for (int j = 0; j < b->num_vertices; j++) {
+    const R *v = b->vertices + 3 * j;
+    for (int k = 0; k < 3; k++)
+      vb[3 * j + k] = (R)(rotation[3 * k] * v[0] + rotation[3 * k + 1] * v[1] + rotation[3 * k + 2] * v[2] +
+                          translation[k] - origin[k]);
+  }
+
+  /* Half-space filter (eq. 5.5) and bounding boxes of what survives. */
+  R box_a_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_a_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
+  R box_b_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_b_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
+  int kept_any_a = 0, kept_any_b = 0;
+  for (int t = 0; t < a->num_triangles; t++) {
+    const int *tri = a->triangles + 3 * t;
+    R high = -(R)1e30;
+    for (int k = 0; k < 3; k++) {
+      R along = POLY_FN(dot)(va + 3 * tri[k], axis);
+      if (along > high) high = along;
+    }
+    ws->kept_a[t] = high >= limit_a;
+    if (!ws->kept_a[t]) continue;
+    kept_any_a = 1;
+    R low3[3], high3[3], e1[3], e2[3];
+    POLY_FN(triangle_bounds)(va, tri, low3, high3);
+    for (int k = 0; k < 3; k++) {
+      if (low3[k] < box_a_low[k]) box_a_low[k] = low3[k];
+      if (high3[k] > box_a_high[k]) box_a_high[k] = high3[k];
+    }
+    POLY_FN(sub)(va + 3 * tri[1], va + 3 * tri[0], e1);
+    POLY_FN(sub)(va + 3 * tri[2], va + 3 * tri[0], e2);
+    POLY_FN(cross)(e1, e2, ws->planes_a + 3 * t);
+  }
+  for (int s = 0; s < b->num_triangles; s++) {
+    const int *tri = b->triangles + 3 * s;
+    R low = (R)1e30;
+    for (int k = 0; k < 3; k++) {
+      R along = POLY_FN(dot)(vb + 3 * tri[k], axis);
+      if (along < low) low = along;
+    }
+    ws->kept_b[s] = low <= limit_b;
+    if (!ws->kept_b[s]) continue;
+    kept_any_b = 1;
+    R low3[3], high3[3], e1[3], e2[3];
+    POLY_FN(triangle_bounds)(vb, tri, low3, high3);
+    for (int k = 0; k < 3; k++) {
+      if (low3[k] < box_b_low[k]) box_b_low[k] = low3[k];
+      if (high3[k] > box_b_high[k]) box_b_high[k] = high3[k];
+    }
+    POLY_FN(sub)(vb + 3 * tri[1], vb + 3 * tri[0], e1);
+    POLY_FN(sub)(vb + 3 * tri[2], vb + 3 * tri[0], e2);
+    POLY_FN(cross)(e1, e2, ws->planes_b + 3 * s);
+    const R *n = b->face_normals + 3 * s;
+    for (int k = 0; k < 3; k++)
+      ws->normals_b[3 * s + k] = (R)(rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2]);
+  }
+  if (!kept_any_a || !kept_any_b) {
+    result->filtered_out = 1;
+    return;
+  }
+
+  /* Vertices inside the other body: only those in the slab and in the other's
+   * box can be; rays point away from the other body, so they only meet kept
+   * triangles (sec. 5.2). */
+  R ray_length = (R)(4.0 * ((double)a->bounding_radius + (double)b->bounding_radius) + (extent_a - extent_b));
+  R ray_a[3] = {-axis[0], -axis[1], -axis[2]};
+  int num_points = 0;
+  for (int i = 0; i < a->num_vertices; i++) {
+    const R *x = va + 3 * i;
+    int candidate = POLY_FN(dot)(x, axis) >= limit_a;
+    for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= box_b_low[k] && x[k] <= box_b_high[k];
+    ws->inside_a[i] = candidate ? (unsigned char)POLY_FN(point_inside)(x, ray_a, ray_length, 0, vb, b->triangles,
+                                                                         ws->planes_b, ws->kept_b, b->num_triangles)
+                                : 0;
+    if (ws->inside_a[i]) POLY_FN(add_point)(ws, &num_points, x);
+  }
+  for (int j = 0; j < b->num_vertices; j++) {
+    const R *x = vb + 3 * j;
+    int candidate = POLY_FN(dot)(x, axis) <= limit_b;
+    for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= box_a_low[k] && x[k] <= box_a_high[k];
+    ws->inside_b[j] = candidate ? (unsigned char)POLY_FN(point_inside)(x, axis, ray_length, 1, va, a->triangles,
+                                                                         ws->planes_a, ws->kept_a, a->num_triangles)
+                                : 0;
+    if (ws->inside_b[j]) POLY_FN(add_point)(ws, &num_points, x);
+  }
+
+  POLY_FN(accumulator) acc = {0, {0, 0, 0}, {0, 0, 0}, 0};
+  int inconsistent = 0;
+  POLY_FN(accumulate_edges)(a, va, a->face_normals, ws->inside_a, 0, b, vb, ws->planes_b, ws->kept_b, axis, limit_a,
+                            ws, &acc, &num_points, &inconsistent);
+  POLY_FN(accumulate_edges)(b, vb, ws->normals_b, ws->inside_b, 1, a, va, ws->planes_a, ws->kept_a, axis, limit_b,
+                            ws, &acc, &num_points, &inconsistent);
+  for (int t = 0; t < a->num_triangles; t++) {
+    if (!ws->kept_a[t]) continue;
+    R low_a[3], high_a[3];
+    POLY_FN(triangle_bounds)(va, a->triangles + 3 * t, low_a, high_a);
+    for (int s = 0; s < b->num_triangles; s++) {
+      if (!ws->kept_b[s]) continue;
+      R low_b[3], high_b[3];
+      POLY_FN(triangle_bounds)(vb, b->triangles + 3 * s, low_b, high_b);
+      if (low_b[0] > high_a[0] || low_b[1] > high_a[1] || low_b[2] > high_a[2] || low_a[0] > high_b[0] ||
+          low_a[1] > high_b[1] || low_a[2] > high_b[2])
+        continue;
+      POLY_FN(accumulate_triangle_pair)(a, va, ws->planes_a, a->face_normals, t, b, vb, ws->planes_b,
+                                        ws->normals_b, s, &acc);
+    }
+  }
+
+  result->num_nodes = num_points;
+  result->num_inconsistent = inconsistent;
+  double volume = (double)acc.volume6 / 6.0;
+  if (!(volume > 0.0)) return;
+  result->volume = volume;
+  for (int k = 0; k < 3; k++) local_centroid[k] = (double)acc.moment24[k] / (24.0 * volume) + origin[k];
+  result->area = (double)acc.area;
+
+  /* Normal (eq. 4.19). When A's surface inside B sums to nothing (one body
+   * wholly inside the other), fall back to the centre line. */
+  double normal[3] = {(double)acc.area_normal[0], (double)acc.area_normal[1], (double)acc.area_normal[2]};
+  double length = sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+  if (length > 1e-9 * (double)acc.area && length > 0.0)
+    for (int k = 0; k < 3; k++) local_normal[k] = normal[k] / length;
+  else
+    for (int k = 0; k < 3; k++) local_normal[k] = axis_d[k];
+
+  /* Depth: extent of the intersection nodes along the normal. */
+  double low = 1e300, high = -1e300;
+  if (num_points <= ws->capacity_points) {
+    for (int p = 0; p < num_points; p++) {
+      const R *x = ws->points + 3 * p;
+      double along = local_normal[0] * x[0] + local_normal[1] * x[1] + local_normal[2] * x[2];
+      if (along < low) low = along;
+      if (along > high) high = along;
+    }
+  } else {
+    /* More nodes than the workspace holds (very rare: long edges crossing many
+     * faces): find them again rather than guess. */
+    POLY_FN(node_extent)(a, va, ws->inside_a, 0, b, vb, ws->planes_b, ws->kept_b, local_normal, &low, &high);
+    POLY_FN(node_extent)(b, vb, ws->inside_b, 1, a, va, ws->planes_a, ws->kept_a, local_normal, &low, &high);
+  }
+  result->depth = high > low ? high - low : 0.0;
+}
+
+#undef R
