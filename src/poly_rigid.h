@@ -71,6 +71,12 @@ POLY_INLINE void poly_quat_multiply(const double a[4], const double b[4], double
   out[0] = w; out[1] = x; out[2] = y; out[3] = z;
 }
 
+POLY_INLINE void poly_cross3_d(const double a[3], const double b[3], double out[3])
+{
+  double x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2], z = a[0] * b[1] - a[1] * b[0];
+  out[0] = x; out[1] = y; out[2] = z;
+}
+
 POLY_INLINE void poly_matrix_apply(const double r[9], const double v[3], double out[3])
 {
   double x = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];

@@ -47,11 +47,14 @@
 
 #include "atom_vec_polyhedron.h"
 #include "compute_erotate_polyhedron.h"
+#include "compute_pair_polyhedral_local.h"
 #include "compute_property_polyhedron.h"
 #include "create_polyhedron.h"
 #include "dump_polyhedron_vtk.h"
+#include "fix_contact_history_polyhedral.h"
 #include "fix_nve_polyhedron.h"
 #include "fix_particletemplate_polyhedron.h"
+#include "pair_polyhedral_volumetric.h"
 
 using namespace LAMMPS_NS;
 
@@ -77,6 +80,7 @@ void *original(const char *symbol)
   return fn;
 }
 
+template <typename T> Pair *create_pair(LAMMPS *lmp) { return new T(lmp); }
 template <typename T> Fix *create_fix(LAMMPS *lmp, int narg, char **arg) { return new T(lmp, narg, arg); }
 template <typename T> Compute *create_compute(LAMMPS *lmp, int iarg, int narg, char **arg) { return new T(lmp, iarg, narg, arg); }
 template <typename T> void run_command(LAMMPS *lmp, int narg, char **arg) { T command(lmp); command.command(narg, arg); }
@@ -108,10 +112,13 @@ void register_styles(LAMMPS *lmp)
   std::map<std::string, ComputeCreator> &computes = *(lmp->modify->*exposed(ComputeMapTag()));
   std::map<std::string, CommandCreator> &commands = *(lmp->input->*exposed(CommandMapTag()));
 
+  (*lmp->force->pair_map)["polyhedral/volumetric"] = &create_pair<PairPolyhedralVolumetric>;
   fixes["particletemplate/polyhedron"] = &create_fix<FixParticletemplatePolyhedron>;
+  fixes[FixContactHistoryPolyhedral::creation_style()] = &create_fix<FixContactHistoryPolyhedral>;
   fixes["nve/polyhedron"] = &create_fix<FixNVEPolyhedron>;
   computes["erotate/polyhedron"] = &create_compute<ComputeERotatePolyhedron>;
   computes["property/polyhedron"] = &create_compute<ComputePropertyPolyhedron>;
+  computes["pair/polyhedral/local"] = &create_compute<ComputePairPolyhedralLocal>;
   commands["create_polyhedron"] = &run_command<CreatePolyhedron>;
 }
 

@@ -1,0 +1,82 @@
+#include "compute_pair_polyhedral_local.h"
+
+#include <mpi.h>
+#include <string.h>
+
+#include "atom.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "update.h"
+
+#include "pair_polyhedral_volumetric.h"
+
+using namespace LAMMPS_NS;
+
+// Columns: id1 id2 volume depth nx ny nz cx cy cz fnx fny fnz ftx fty ftz
+// (n from particle 1 to 2, c the contact point, forces on particle 2).
+ComputePairPolyhedralLocal::ComputePairPolyhedralLocal(LAMMPS *lmp, int &iarg, int narg, char **arg)
+    : Compute(lmp, iarg, narg, arg), pair(NULL), capacity(0)
+{
+  if (narg != iarg) error->compute_error(FLERR, this, "takes no arguments");
+  local_flag = 1;
+  scalar_flag = 1;
+  extscalar = 1;
+  size_local_cols = kColumns;
+  size_local_rows = 0;
+  array_local = NULL;
+  vector_local = NULL;
+}
+
+ComputePairPolyhedralLocal::~ComputePairPolyhedralLocal()
+{
+  if (pair && force->pair == pair) pair->record_contacts(false);
+  memory->destroy(array_local);
+}
+
+void ComputePairPolyhedralLocal::init()
+{
+  pair = dynamic_cast<PairPolyhedralVolumetric *>(force->pair);
+  if (!pair) error->compute_error(FLERR, this, "requires pair_style polyhedral/volumetric");
+  pair->record_contacts(true);
+}
+
+void ComputePairPolyhedralLocal::compute_local()
+{
+  invoked_local = update->ntimestep;
+  const std::vector<PolyContactRecord> &records = pair->recorded_contacts();
+  int rows = (int) records.size();
+  if (rows > capacity) {
+    memory->destroy(array_local);
+    capacity = rows;
+    memory->create(array_local, capacity, (int) kColumns, "pair/polyhedral/local:array");
+  }
+  for (int r = 0; r < rows; r++) {
+    const PolyContactRecord &c = records[r];
+    double *row = array_local[r];
+    row[0] = c.id_i;
+    row[1] = c.id_j;
+    row[2] = c.volume;
+    row[3] = c.depth;
+    for (int k = 0; k < 3; k++) {
+      row[4 + k] = c.normal[k];
+      row[7 + k] = c.contact_point[k];
+      row[10 + k] = c.normal_force[k];
+      row[13 + k] = c.tangential_force[k];
+    }
+  }
+  size_local_rows = rows;
+}
+
+double ComputePairPolyhedralLocal::compute_scalar()
+{
+  invoked_scalar = update->ntimestep;
+  double mine = (double) pair->recorded_contacts().size();
+  MPI_Allreduce(&mine, &scalar, 1, MPI_DOUBLE, MPI_SUM, world);
+  return scalar;
+}
+
+double ComputePairPolyhedralLocal::memory_usage()
+{
+  return (double) capacity * kColumns * sizeof(double);
+}

@@ -1,0 +1,34 @@
+/* compute pair/polyhedral/local: the active contacts of pair
+ * polyhedral/volumetric, one row each, for dump local (as compute
+ * pair/gran/local does for spheres); its scalar is the number of contacts,
+ * for thermo output. */
+#ifdef COMPUTE_CLASS
+#else
+
+#ifndef LMP_COMPUTE_PAIR_POLYHEDRAL_LOCAL_H
+#define LMP_COMPUTE_PAIR_POLYHEDRAL_LOCAL_H
+
+#include "compute.h"
+
+namespace LAMMPS_NS {
+
+class ComputePairPolyhedralLocal : public Compute {
+ public:
+  ComputePairPolyhedralLocal(class LAMMPS *, int &, int, char **);
+  ~ComputePairPolyhedralLocal();
+  void init();
+  void compute_local();
+  double compute_scalar();  // number of contacts
+  double memory_usage();
+
+  enum { kColumns = 16 };
+
+ private:
+  class PairPolyhedralVolumetric *pair;
+  int capacity;
+};
+
+}
+
+#endif
+#endif

@@ -1,0 +1,34 @@
+/* Per-contact history of pair polyhedral/volumetric, kept by LIGGGHTS' own
+ * contact-history machinery.
+ *
+ * LIGGGHTS' granular neighbour lists restore each pair's history from the
+ * partner arrays of FixContactHistory at every rebuild, and that fix carries
+ * the arrays through migration and restart files. The neighbour code looks the
+ * fix up by the exact style name "contacthistory", and the stock class binds
+ * itself to `pair gran` in init(). This subclass therefore renames itself to
+ * "contacthistory" on construction (before LIGGGHTS matches per-atom restart
+ * data by ID and style) and binds to our pair style in init(); everything
+ * else is the stock implementation. Created by the pair style, not by users. */
+#ifdef FIX_CLASS
+#else
+
+#ifndef LMP_FIX_CONTACT_HISTORY_POLYHEDRAL_H
+#define LMP_FIX_CONTACT_HISTORY_POLYHEDRAL_H
+
+#include "fix_contact_history.h"
+
+namespace LAMMPS_NS {
+
+class FixContactHistoryPolyhedral : public FixContactHistory {
+ public:
+  FixContactHistoryPolyhedral(class LAMMPS *, int, char **);
+  void init();
+
+  static const char *fix_id() { return "contacthistory_polyhedral"; }
+  static const char *creation_style() { return "contacthistory/polyhedral"; }
+};
+
+}
+
+#endif
+#endif

@@ -1,0 +1,482 @@
+#include "pair_polyhedral_volumetric.h"
+
+#include <math.h>
+#include <mpi.h>
+#include <string.h>
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "fix_property_global.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neigh_request.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include "fix_contact_history_polyhedral.h"
+#include "fix_particletemplate_polyhedron.h"
+
+using namespace LAMMPS_NS;
+
+// The time step is flagged above these fractions of the Rayleigh and Hertz times.
+static const double kRayleighFraction = 0.2;
+static const double kHertzFraction = 0.1;
+
+PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
+    : Pair(lmp), computeflag(0), listgranhistory(NULL), tangential_history(true), damping(true),
+#ifdef POLY_SINGLE_PRECISION
+      single_precision(true),
+#else
+      single_precision(false),
+#endif
+      recording(false), have_workspace(false), maxrad(NULL), fix_history(NULL), atom_ntypes(0)
+{
+  single_enable = 0;
+  restartinfo = 1;
+  no_virial_fdotr_compute = 1;
+  memset(&workspace_d, 0, sizeof workspace_d);
+  memset(&workspace_f, 0, sizeof workspace_f);
+}
+
+PairPolyhedralVolumetric::~PairPolyhedralVolumetric()
+{
+  free_shape_views();
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+    memory->destroy(maxrad);
+  }
+}
+
+void PairPolyhedralVolumetric::allocate()
+{
+  allocated = 1;
+  int n = atom->ntypes;
+  memory->create(setflag, n + 1, n + 1, "pair:setflag");
+  memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+  memory->create(maxrad, n + 1, "pair:maxrad");
+  for (int i = 0; i <= n; i++)
+    for (int j = 0; j <= n; j++) setflag[i][j] = 0;
+}
+
+// pair_style polyhedral/volumetric [tangential history|off] [damping on|off] [precision double|single]
+void PairPolyhedralVolumetric::settings(int narg, char **arg)
+{
+  for (int iarg = 0; iarg < narg; iarg += 2) {
+    if (iarg + 2 > narg) {
+      char message[256];
+      snprintf(message, sizeof message, "Pair polyhedral/volumetric: keyword '%s' needs a value", arg[iarg]);
+      error->all(FLERR, message);
+    }
+    const char *key = arg[iarg], *value = arg[iarg + 1];
+    bool ok = true;
+    if (strcmp(key, "tangential") == 0) {
+      ok = strcmp(value, "history") == 0 || strcmp(value, "off") == 0;
+      tangential_history = strcmp(value, "history") == 0;
+    } else if (strcmp(key, "damping") == 0) {
+      ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
+      damping = strcmp(value, "on") == 0;
+    } else if (strcmp(key, "precision") == 0) {
+      ok = strcmp(value, "double") == 0 || strcmp(value, "single") == 0;
+      single_precision = strcmp(value, "single") == 0;
+    } else {
+      char message[256];
+      snprintf(message, sizeof message,
+               "Pair polyhedral/volumetric: unknown keyword '%s' (tangential, damping, precision)", key);
+      error->all(FLERR, message);
+    }
+    if (!ok) {
+      char message[256];
+      snprintf(message, sizeof message, "Pair polyhedral/volumetric: invalid value '%s' for '%s'", value, key);
+      error->all(FLERR, message);
+    }
+  }
+}
+
+// pair_coeff * *: the materials come from fix property/global.
+void PairPolyhedralVolumetric::coeff(int narg, char **arg)
+{
+  if (narg != 2) error->all(FLERR, "Pair polyhedral/volumetric: use 'pair_coeff * *' (materials come from fix property/global)");
+  if (!allocated) allocate();
+  int ilo, ihi, jlo, jhi;
+  force->bounds(arg[0], atom->ntypes, ilo, ihi);
+  force->bounds(arg[1], atom->ntypes, jlo, jhi);
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++)
+    for (int j = (jlo > i ? jlo : i); j <= jhi; j++) {
+      setflag[i][j] = 1;
+      count++;
+    }
+  if (count == 0) error->all(FLERR, "Incorrect args for pair coefficients");
+}
+
+void PairPolyhedralVolumetric::init_style()
+{
+  if (strcmp(atom->atom_style, "polyhedron") != 0)
+    error->all(FLERR, "Pair polyhedral/volumetric requires atom_style polyhedron");
+  if (comm->ghost_velocity == 0)
+    error->all(FLERR, "Pair polyhedral/volumetric requires ghost atoms store velocity: use 'communicate single vel yes'");
+  if (tangential_history && force->newton_pair)
+    error->all(FLERR, "Pair polyhedral/volumetric with tangential history requires newton pair off");
+  if (comm->me == 0 && neighbor->delay != 0)
+    error->warning(FLERR, "Pair polyhedral/volumetric: use 'neigh_modify delay 0' so contacts are never missed");
+
+  load_materials();
+  build_shape_views();
+  if (tangential_history) ensure_history_fix();
+
+  int irequest = neighbor->request(this);
+  neighbor->requests[irequest]->half = 0;
+  neighbor->requests[irequest]->gran = 1;
+  if (tangential_history) {
+    irequest = neighbor->request(this);
+    neighbor->requests[irequest]->id = 1;
+    neighbor->requests[irequest]->half = 0;
+    neighbor->requests[irequest]->granhistory = 1;
+    neighbor->requests[irequest]->dnum = POLY_HISTORY_SIZE;
+  }
+
+  // Bounding radius per type, from the particles and from the templates
+  // (particles inserted later).
+  int n = atom->ntypes;
+  std::vector<double> local(n + 1, 0.0);
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->radius[i] > local[atom->type[i]]) local[atom->type[i]] = atom->radius[i];
+  for (int s = 1; s < (int) views_d.size(); s++) {
+    FixParticletemplatePolyhedron *shape_template = FixParticletemplatePolyhedron::find(lmp, s);
+    int t = shape_template->particle_type();
+    if (t <= n && shape_template->shape().bounding_radius > local[t]) local[t] = shape_template->shape().bounding_radius;
+  }
+  MPI_Allreduce(&local[1], &maxrad[1], n, MPI_DOUBLE, MPI_MAX, world);
+
+  check_timestep();
+}
+
+void PairPolyhedralVolumetric::init_list(int id, NeighList *ptr)
+{
+  if (id == 0) list = ptr;
+  else if (id == 1) listgranhistory = ptr;
+}
+
+double PairPolyhedralVolumetric::init_one(int i, int j)
+{
+  if (!allocated) allocate();
+  return (maxrad[i] + maxrad[j]) * neighbor->contactDistanceFactor;
+}
+
+void *PairPolyhedralVolumetric::extract(const char *name, int &dim)
+{
+  dim = 0;
+  if (strcmp(name, "computeflag") == 0) return (void *) &computeflag;
+  return NULL;
+}
+
+void PairPolyhedralVolumetric::load_materials()
+{
+  int n = atom->ntypes;
+  atom_ntypes = n;
+  const char *caller = force->pair_style;
+  FixPropertyGlobal *youngs = static_cast<FixPropertyGlobal *>(
+      modify->find_fix_property("youngsModulus", "property/global", "peratomtype", n, 0, caller));
+  FixPropertyGlobal *poisson = static_cast<FixPropertyGlobal *>(
+      modify->find_fix_property("poissonsRatio", "property/global", "peratomtype", n, 0, caller));
+  // Model only what the scene needs: restitution only with damping, friction only with a tangential force.
+  FixPropertyGlobal *restitution = damping ? static_cast<FixPropertyGlobal *>(modify->find_fix_property(
+                                                 "coefficientRestitution", "property/global", "peratomtypepair", n, n, caller))
+                                           : NULL;
+  FixPropertyGlobal *friction = tangential_history ? static_cast<FixPropertyGlobal *>(modify->find_fix_property(
+                                                         "coefficientFriction", "property/global", "peratomtypepair", n, n, caller))
+                                                   : NULL;
+  materials.assign((n + 1) * (n + 1), poly_material_pair());
+  for (int i = 1; i <= n; i++) {
+    double youngs_i = youngs->compute_vector(i - 1), poisson_i = poisson->compute_vector(i - 1);
+    if (!(youngs_i > 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: youngsModulus must be > 0");
+    if (!(poisson_i >= 0.0 && poisson_i < 0.5)) error->all(FLERR, "Pair polyhedral/volumetric: poissonsRatio must be in [0, 0.5)");
+    for (int j = 1; j <= n; j++) {
+      double youngs_j = youngs->compute_vector(j - 1), poisson_j = poisson->compute_vector(j - 1);
+      double e = restitution ? restitution->compute_array(i - 1, j - 1) : 1.0;
+      double mu = friction ? friction->compute_array(i - 1, j - 1) : 0.0;
+      if (!(e > 0.0 && e <= 1.0)) error->all(FLERR, "Pair polyhedral/volumetric: coefficientRestitution must be in (0, 1]");
+      if (!(mu >= 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: coefficientFriction must be >= 0");
+      poly_material_pair_make(youngs_i, poisson_i, youngs_j, poisson_j, e, mu, &materials[i * (n + 1) + j]);
+    }
+  }
+}
+
+void PairPolyhedralVolumetric::free_shape_views()
+{
+  for (size_t s = 0; s < views_f.size(); s++)
+    if (views_f[s].vertices) poly_shape_view_free_f(&views_f[s]);
+  views_f.clear();
+  views_d.clear();
+  if (have_workspace) {
+    poly_overlap_workspace_destroy_d(&workspace_d);
+    poly_overlap_workspace_destroy_f(&workspace_f);
+    have_workspace = false;
+  }
+}
+
+// Views of every template by shape number, and one workspace for the largest.
+void PairPolyhedralVolumetric::build_shape_views()
+{
+  free_shape_views();
+  int count = 0;
+  for (int s = 1; FixParticletemplatePolyhedron::find(lmp, s); s++) count = s;
+  if (count != FixParticletemplatePolyhedron::count(lmp))
+    error->all(FLERR, "Pair polyhedral/volumetric: polyhedral templates must be numbered 1..N without gaps");
+  views_d.assign(count + 1, poly_shape_view_d());
+  views_f.assign(count + 1, poly_shape_view_f());
+  memset(&views_d[0], 0, sizeof(poly_shape_view_d));
+  memset(&views_f[0], 0, sizeof(poly_shape_view_f));
+  int max_vertices = 1, max_triangles = 1;
+  for (int s = 1; s <= count; s++) {
+    const poly_shape &shape = FixParticletemplatePolyhedron::find(lmp, s)->shape();
+    views_d[s] = poly_shape_view_of(&shape);
+    if (poly_shape_view_make_f(&shape, &views_f[s]) != 0) error->one(FLERR, "Pair polyhedral/volumetric: out of memory");
+    if (shape.num_vertices > max_vertices) max_vertices = shape.num_vertices;
+    if (shape.num_triangles > max_triangles) max_triangles = shape.num_triangles;
+  }
+  if (poly_overlap_workspace_create_d(&workspace_d, max_vertices, max_triangles) != 0 ||
+      poly_overlap_workspace_create_f(&workspace_f, max_vertices, max_triangles) != 0)
+    error->one(FLERR, "Pair polyhedral/volumetric: out of memory");
+  have_workspace = true;
+}
+
+void PairPolyhedralVolumetric::ensure_history_fix()
+{
+  int ifix = modify->find_fix(FixContactHistoryPolyhedral::fix_id());
+  if (ifix < 0) {
+    char dnum[8];
+    snprintf(dnum, sizeof dnum, "%d", POLY_HISTORY_SIZE);
+    // The elastic tangential force flips sign when the pair is seen from the partner.
+    const char *args[4 + 2 * POLY_HISTORY_SIZE] = {
+        FixContactHistoryPolyhedral::fix_id(), "all", FixContactHistoryPolyhedral::creation_style(), dnum,
+        "elastic_tangential_x", "1", "elastic_tangential_y", "1", "elastic_tangential_z", "1",
+        "tangential_stiffness", "0", "normal_force", "0"};
+    modify->add_fix(4 + 2 * POLY_HISTORY_SIZE, const_cast<char **>(args));
+    ifix = modify->find_fix(FixContactHistoryPolyhedral::fix_id());
+  }
+  fix_history = dynamic_cast<FixContactHistoryPolyhedral *>(modify->fix[ifix]);
+  if (!fix_history || fix_history->get_dnum() != POLY_HISTORY_SIZE)
+    error->all(FLERR, "Pair polyhedral/volumetric: contact history of an incompatible model (restart from another pair style?)");
+}
+
+// Warns when the time step is a large fraction of the Rayleigh time of the
+// smallest particle or of the Hertz contact time at the fastest approach.
+void PairPolyhedralVolumetric::check_timestep()
+{
+  double rayleigh = 1e300, hertz = 1e300, speed = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    double v2 = atom->v[i][0] * atom->v[i][0] + atom->v[i][1] * atom->v[i][1] + atom->v[i][2] * atom->v[i][2];
+    if (v2 > speed * speed) speed = sqrt(v2);
+  }
+  double speed_all;
+  MPI_Allreduce(&speed, &speed_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  double approach = 2.0 * speed_all;
+  FixPropertyGlobal *youngs = static_cast<FixPropertyGlobal *>(
+      modify->find_fix_property("youngsModulus", "property/global", "peratomtype", atom->ntypes, 0, force->pair_style));
+  FixPropertyGlobal *poisson = static_cast<FixPropertyGlobal *>(
+      modify->find_fix_property("poissonsRatio", "property/global", "peratomtype", atom->ntypes, 0, force->pair_style));
+  for (int i = 0; i < atom->nlocal; i++) {
+    int t = atom->type[i];
+    double e = youngs->compute_vector(t - 1), nu = poisson->compute_vector(t - 1);
+    double volume = atom->rmass[i] / atom->density[i];
+    double r = cbrt(3.0 * volume / (4.0 * M_PI));
+    double shear = e / (2.0 * (1.0 + nu));
+    double t_rayleigh = M_PI * r * sqrt(atom->density[i] / shear) / (0.1631 * nu + 0.8766);
+    if (t_rayleigh < rayleigh) rayleigh = t_rayleigh;
+    if (approach > 0.0) {
+      double m_eff = 0.5 * atom->rmass[i], r_eff = 0.5 * r, e_eff = e / (2.0 * (1.0 - nu * nu));
+      double t_hertz = 2.87 * pow(m_eff * m_eff / (r_eff * e_eff * e_eff * approach), 0.2);
+      if (t_hertz < hertz) hertz = t_hertz;
+    }
+  }
+  double local[2] = {rayleigh, hertz}, global[2];
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, world);
+  if (comm->me != 0) return;
+  double dt = update->dt;
+  char message[512];
+  if (global[0] < 1e300 && dt > kRayleighFraction * global[0]) {
+    snprintf(message, sizeof message,
+             "Pair polyhedral/volumetric: time step %g is %.0f%% of the Rayleigh time %g of the smallest particle "
+             "(keep it below %.0f%%)", dt, 100.0 * dt / global[0], global[0], 100.0 * kRayleighFraction);
+    error->warning(FLERR, message);
+  }
+  if (global[1] < 1e300 && dt > kHertzFraction * global[1]) {
+    snprintf(message, sizeof message,
+             "Pair polyhedral/volumetric: time step %g is %.0f%% of the Hertz contact time %g at the fastest "
+             "approach speed %g (keep it below %.0f%%)", dt, 100.0 * dt / global[1], global[1], approach,
+             100.0 * kHertzFraction);
+    error->warning(FLERR, message);
+  }
+}
+
+void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result)
+{
+  poly_pose pose_i, pose_j;
+  for (int k = 0; k < 3; k++) {
+    pose_i.position[k] = atom->x[i][k];
+    pose_j.position[k] = atom->x[j][k];
+  }
+  for (int k = 0; k < 4; k++) {
+    pose_i.quaternion[k] = atom->quaternion[i][k];
+    pose_j.quaternion[k] = atom->quaternion[j][k];
+  }
+  int si = atom->shapetype[i], sj = atom->shapetype[j];
+  if (single_precision)
+    poly_overlap_f(&views_f[si], &pose_i, &views_f[sj], &pose_j, &workspace_f, result);
+  else
+    poly_overlap_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, &workspace_d, result);
+}
+
+void PairPolyhedralVolumetric::compute(int eflag, int vflag)
+{
+  if (eflag || vflag) ev_setup(eflag, vflag);
+  else evflag = vflag_fdotr = 0;
+
+  computeflag = 1;
+  // The set-up force evaluation must not advance the tangential springs.
+  const bool advance_history = !update->setupflag;
+  if (recording) records.clear();
+
+  double **x = atom->x, **v = atom->v, **f = atom->f, **omega = atom->omega, **torque = atom->torque;
+  double *radius = atom->radius, *rmass = atom->rmass;
+  int *type = atom->type, *tag = atom->tag;
+  const int nlocal = atom->nlocal, newton_pair = force->newton_pair;
+  const int num_shapes = (int) views_d.size();
+
+  int inum = list->inum, *ilist = list->ilist, *numneigh = list->numneigh, **firstneigh = list->firstneigh;
+  int **first_touch = listgranhistory ? listgranhistory->firstneigh : NULL;
+  double **first_history = listgranhistory ? listgranhistory->firstdouble : NULL;
+
+  for (int ii = 0; ii < inum; ii++) {
+    int i = ilist[ii];
+    int *jlist = firstneigh[i], *touch = first_touch ? first_touch[i] : NULL;
+    double *all_history = first_history ? first_history[i] : NULL;
+    for (int jj = 0; jj < numneigh[i]; jj++) {
+      int j = jlist[jj] & NEIGHMASK;
+      double *history = all_history ? &all_history[POLY_HISTORY_SIZE * jj] : NULL;
+      double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
+      double reach = radius[i] + radius[j];
+      poly_overlap_result geometry;
+      geometry.volume = 0.0;
+      if (dx * dx + dy * dy + dz * dz < reach * reach) {
+        int si = atom->shapetype[i], sj = atom->shapetype[j];
+        if (si <= 0 || sj <= 0 || si >= num_shapes || sj >= num_shapes)
+          error->one(FLERR, "Pair polyhedral/volumetric: a particle has a shape without template");
+        overlap(i, j, &geometry);
+      }
+      // Faces that touch exactly come out with a round-off volume (the symbolic
+      // perturbation may push them together by an infinitesimal amount): below
+      // 1e-12 of the smaller particle's volume an overlap is not a contact.
+      double volume_i = rmass[i] / atom->density[i], volume_j = rmass[j] / atom->density[j];
+      double negligible = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
+      if (!(geometry.volume > negligible) || !(geometry.depth > 0.0)) {
+        if (touch) touch[jj] = 0;
+        if (history)
+          for (int d = 0; d < POLY_HISTORY_SIZE; d++) history[d] = 0.0;
+        continue;
+      }
+      if (touch) touch[jj] = 1;
+
+      poly_contact_input input;
+      input.volume = geometry.volume;
+      input.depth = geometry.depth;
+      for (int k = 0; k < 3; k++) {
+        input.normal[k] = geometry.normal[k];
+        input.centroid[k] = geometry.centroid[k];
+        input.position_i[k] = x[i][k];
+        input.position_j[k] = x[j][k];
+        input.velocity_i[k] = v[i][k];
+        input.velocity_j[k] = v[j][k];
+        input.omega_i[k] = omega[i][k];
+        input.omega_j[k] = omega[j][k];
+      }
+      input.mass_i = rmass[i];
+      input.mass_j = rmass[j];
+      input.dt = update->dt;
+      double scratch[POLY_HISTORY_SIZE] = {0.0, 0.0, 0.0, 0.0, 0.0};
+      double *state = scratch;
+      if (history) {
+        if (advance_history) state = history;
+        else
+          for (int d = 0; d < POLY_HISTORY_SIZE; d++) scratch[d] = history[d];
+      }
+      poly_contact_output out;
+      poly_contact_evaluate(&input, &material(type[i], type[j]), tangential_history, damping, state, &out);
+
+      for (int k = 0; k < 3; k++) {
+        f[i][k] -= out.force_j[k];
+        torque[i][k] += out.torque_i[k];
+      }
+      if (newton_pair || j < nlocal)
+        for (int k = 0; k < 3; k++) {
+          f[j][k] += out.force_j[k];
+          torque[j][k] += out.torque_j[k];
+        }
+      if (evflag)
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, -out.force_j[0], -out.force_j[1], -out.force_j[2], -dx,
+                     -dy, -dz);
+      // With newton off a pair with a ghost is computed on both ranks; one records it.
+      if (recording && (j < nlocal || tag[i] < tag[j])) {
+        PolyContactRecord record;
+        record.id_i = tag[i];
+        record.id_j = tag[j];
+        record.volume = geometry.volume;
+        record.depth = geometry.depth;
+        for (int k = 0; k < 3; k++) {
+          record.normal[k] = geometry.normal[k];
+          record.contact_point[k] = geometry.centroid[k];
+          record.normal_force[k] = out.normal_force * geometry.normal[k];
+          record.tangential_force[k] = out.tangential_force[k];
+        }
+        records.push_back(record);
+      }
+    }
+  }
+}
+
+void PairPolyhedralVolumetric::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) fwrite(&setflag[i][j], sizeof(int), 1, fp);
+}
+
+void PairPolyhedralVolumetric::read_restart(FILE *fp, const int major, const int minor)
+{
+  read_restart_settings(fp, major, minor);
+  allocate();
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) {
+      if (comm->me == 0 && fread(&setflag[i][j], sizeof(int), 1, fp) != 1)
+        error->one(FLERR, "Pair polyhedral/volumetric: truncated restart file");
+      MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
+    }
+}
+
+void PairPolyhedralVolumetric::write_restart_settings(FILE *fp)
+{
+  int flags[3] = {tangential_history, damping, single_precision};
+  fwrite(flags, sizeof(int), 3, fp);
+}
+
+void PairPolyhedralVolumetric::read_restart_settings(FILE *fp, const int, const int)
+{
+  int flags[3];
+  if (comm->me == 0 && fread(flags, sizeof(int), 3, fp) != 3) error->one(FLERR, "Pair polyhedral/volumetric: truncated restart file");
+  MPI_Bcast(flags, 3, MPI_INT, 0, world);
+  tangential_history = flags[0];
+  damping = flags[1];
+  single_precision = flags[2];
+}
+
+double PairPolyhedralVolumetric::memory_usage()
+{
+  double bytes = Pair::memory_usage();
+  bytes += (double) records.capacity() * sizeof(PolyContactRecord);
+  return bytes;
+}

@@ -1,0 +1,80 @@
+/* pair_style polyhedral/volumetric: volumetric-overlap HM+D contacts between
+ * polyhedral particles (CPU reference). Geometry: poly_overlap.h; law:
+ * poly_contact.h; this class only moves data between LIGGGHTS and those. */
+#ifdef PAIR_CLASS
+#else
+
+#ifndef LMP_PAIR_POLYHEDRAL_VOLUMETRIC_H
+#define LMP_PAIR_POLYHEDRAL_VOLUMETRIC_H
+
+#include <vector>
+
+#include "pair.h"
+#include "poly_contact.h"
+#include "poly_overlap.h"
+
+namespace LAMMPS_NS {
+
+// One active contact, as listed by compute pair/polyhedral/local.
+struct PolyContactRecord {
+  int id_i, id_j;
+  double volume, depth, normal[3], contact_point[3], normal_force[3], tangential_force[3];
+};
+
+class PairPolyhedralVolumetric : public Pair {
+ public:
+  PairPolyhedralVolumetric(class LAMMPS *);
+  ~PairPolyhedralVolumetric();
+  void compute(int, int);
+  void settings(int, char **);
+  void coeff(int, char **);
+  void init_style();
+  void init_list(int, class NeighList *);
+  double init_one(int, int);
+  void *extract(const char *, int &);
+  void write_restart(FILE *);
+  void read_restart(FILE *, const int, const int);
+  void write_restart_settings(FILE *);
+  void read_restart_settings(FILE *, const int, const int);
+  double memory_usage();
+
+  int computeflag;                  // read by the contact-history fix
+  class NeighList *listgranhistory; // touch flags and history per neighbour
+
+  // compute pair/polyhedral/local switches recording on and reads the records.
+  void record_contacts(bool on) { recording = on; }
+  const std::vector<PolyContactRecord> &recorded_contacts() const { return records; }
+
+ protected:
+  bool tangential_history, damping, single_precision;
+  bool recording;
+  std::vector<PolyContactRecord> records;
+
+  std::vector<poly_shape_view_d> views_d;  // indexed by shape number
+  std::vector<poly_shape_view_f> views_f;
+  poly_overlap_workspace_d workspace_d;
+  poly_overlap_workspace_f workspace_f;
+  bool have_workspace;
+
+  std::vector<poly_material_pair> materials;  // (ntypes+1)^2, effective constants per type pair
+  double *maxrad;             // largest bounding radius per type
+  class FixContactHistoryPolyhedral *fix_history;
+
+  void allocate();
+  void load_materials();
+  void build_shape_views();
+  void free_shape_views();
+  void ensure_history_fix();
+  void check_timestep();
+  void overlap(int i, int j, poly_overlap_result *result);
+  const poly_material_pair &material(int itype, int jtype) const
+  {
+    return materials[itype * (atom_ntypes + 1) + jtype];
+  }
+  int atom_ntypes;
+};
+
+}
+
+#endif
+#endif

@@ -1,0 +1,146 @@
+/* Volumetric Hertz-Mindlin-Deresiewicz contact law (document 000, sec. 4.2).
+ *
+ * For two bodies whose overlap has volume V, depth delta (extent along the
+ * normal), normal n (from body i to body j) and centroid c:
+ *   normal:      F_n = 4/(3 sqrt(pi)) E* sqrt(V delta) - gamma_n (u . n)     (4.16)
+ *                k_n = 2 E* sqrt(V / (pi delta))                             (4.17)
+ *   tangential:  k_t = 8 G* sqrt(V / (pi delta))                             (4.18)
+ *                F_te += -k_t u_t dt, rescaled by k_t/k_t_old when unloading (4.8, 4.9)
+ *                F_t = F_te - gamma_t u_t, limited to mu F_n                 (4.12, 4.13)
+ * with u the velocity of j relative to i at c and u_t its tangential part.
+ * For a sphere pair V ~ pi delta^2 R, so sqrt(V/(pi delta)) = sqrt(R delta)
+ * and the law is LIGGGHTS' `model hertz`: the same E* and G* (G* as LIGGGHTS
+ * defines it), and damping from the restitution coefficient e as LIGGGHTS does,
+ *   gamma = 2 sqrt(5/6) |beta| sqrt(S m*),  beta = ln e / sqrt(ln^2 e + pi^2),
+ * with S = k_n for the normal and S = k_t for the tangential direction.
+ * The force acts at the overlap centroid, so both bodies feel torques.
+ * No attractive normal force: F_n is clamped at zero.
+ *
+ * Header-only C for the CPU style and the CUDA kernels alike.
+ */
+#ifndef POLY_CONTACT_H
+#define POLY_CONTACT_H
+
+#include <math.h>
+
+#include "poly_rigid.h"
+
+#define POLY_PI 3.14159265358979323846
+
+/* Per-contact history, stored from the point of view of body i: the elastic
+ * tangential force on j (which flips sign when the pair is seen from j), the
+ * tangential stiffness and normal force of the previous step. */
+enum { POLY_HISTORY_SIZE = 5 };
+
+typedef struct poly_material_pair {
+  double youngs_effective;   /* E*: 1/E* = (1-nu_i^2)/E_i + (1-nu_j^2)/E_j */
+  double shear_effective;    /* G*: 1/G* = 2(2-nu_i)(1+nu_i)/E_i + 2(2-nu_j)(1+nu_j)/E_j */
+  double damping_beta;       /* |ln e| / sqrt(ln^2 e + pi^2) */
+  double friction;           /* mu */
+} poly_material_pair;
+
+typedef struct poly_contact_input {
+  double volume, depth;
+  double normal[3];          /* unit, from i to j */
+  double centroid[3];
+  double position_i[3], position_j[3];
+  double velocity_i[3], velocity_j[3];
+  double omega_i[3], omega_j[3];
+  double mass_i, mass_j;     /* a wall has mass_j = 0 meaning infinite */
+  double dt;
+} poly_contact_input;
+
+typedef struct poly_contact_output {
+  double force_j[3];         /* on j; i gets the opposite */
+  double torque_i[3], torque_j[3];
+  double normal_force;       /* >= 0 */
+  double tangential_force[3];/* on j */
+  double normal_stiffness, tangential_stiffness;
+} poly_contact_output;
+
+POLY_INLINE void poly_material_pair_make(double youngs_i, double poisson_i, double youngs_j, double poisson_j,
+                                         double restitution, double friction, poly_material_pair *pair)
+{
+  pair->youngs_effective = 1.0 / ((1.0 - poisson_i * poisson_i) / youngs_i + (1.0 - poisson_j * poisson_j) / youngs_j);
+  pair->shear_effective = 1.0 / (2.0 * (2.0 - poisson_i) * (1.0 + poisson_i) / youngs_i +
+                                 2.0 * (2.0 - poisson_j) * (1.0 + poisson_j) / youngs_j);
+  double log_e = log(restitution);
+  pair->damping_beta = restitution > 0.0 ? fabs(log_e) / sqrt(log_e * log_e + POLY_PI * POLY_PI) : 1.0;
+  pair->friction = friction;
+}
+
+/* Evaluates the law and advances `history` (POLY_HISTORY_SIZE doubles, zero
+ * for a new contact). `tangential` and `damping` switch those parts on. */
+POLY_INLINE void poly_contact_evaluate(const poly_contact_input *in, const poly_material_pair *material, int tangential,
+                                       int damping, double *history, poly_contact_output *out)
+{
+  const double *n = in->normal;
+  double arm_i[3], arm_j[3], contact_velocity_i[3], contact_velocity_j[3], u[3], u_t[3];
+  for (int k = 0; k < 3; k++) {
+    arm_i[k] = in->centroid[k] - in->position_i[k];
+    arm_j[k] = in->centroid[k] - in->position_j[k];
+  }
+  poly_cross3_d(in->omega_i, arm_i, contact_velocity_i);
+  poly_cross3_d(in->omega_j, arm_j, contact_velocity_j);
+  for (int k = 0; k < 3; k++)
+    u[k] = (in->velocity_j[k] + contact_velocity_j[k]) - (in->velocity_i[k] + contact_velocity_i[k]);
+  double u_n = u[0] * n[0] + u[1] * n[1] + u[2] * n[2];
+  for (int k = 0; k < 3; k++) u_t[k] = u[k] - u_n * n[k];
+
+  double effective_mass = in->mass_j > 0.0 ? in->mass_i * in->mass_j / (in->mass_i + in->mass_j) : in->mass_i;
+  double radius_like = in->depth > 0.0 ? sqrt(in->volume / (POLY_PI * in->depth)) : 0.0; /* sqrt(R delta) for spheres */
+  double k_n = 2.0 * material->youngs_effective * radius_like;
+  double k_t = 8.0 * material->shear_effective * radius_like;
+  double elastic = 4.0 / (3.0 * sqrt(POLY_PI)) * material->youngs_effective * sqrt(in->volume * in->depth);
+  double damping_factor = damping ? 2.0 * sqrt(5.0 / 6.0) * material->damping_beta : 0.0;
+  double gamma_n = damping_factor * sqrt(k_n * effective_mass);
+  double normal_force = elastic - gamma_n * u_n;
+  if (normal_force < 0.0) normal_force = 0.0;
+
+  double tangential_force[3] = {0.0, 0.0, 0.0};
+  if (tangential) {
+    double *elastic_t = history;
+    /* Carry the stored force into the current tangent plane, keeping its size. */
+    double along = elastic_t[0] * n[0] + elastic_t[1] * n[1] + elastic_t[2] * n[2];
+    double before = sqrt(elastic_t[0] * elastic_t[0] + elastic_t[1] * elastic_t[1] + elastic_t[2] * elastic_t[2]);
+    for (int k = 0; k < 3; k++) elastic_t[k] -= along * n[k];
+    double after = sqrt(elastic_t[0] * elastic_t[0] + elastic_t[1] * elastic_t[1] + elastic_t[2] * elastic_t[2]);
+    if (after > 0.0)
+      for (int k = 0; k < 3; k++) elastic_t[k] *= before / after;
+    /* Unloading shrinks the stuck spring with the contact (4.9). */
+    double previous_stiffness = history[3], previous_normal = history[4];
+    if (normal_force < previous_normal && previous_stiffness > 0.0)
+      for (int k = 0; k < 3; k++) elastic_t[k] *= k_t / previous_stiffness;
+    for (int k = 0; k < 3; k++) elastic_t[k] -= k_t * u_t[k] * in->dt;
+
+    double gamma_t = damping_factor * sqrt(k_t * effective_mass);
+    double elastic_size = sqrt(elastic_t[0] * elastic_t[0] + elastic_t[1] * elastic_t[1] + elastic_t[2] * elastic_t[2]);
+    double limit = material->friction * normal_force;
+    if (elastic_size > limit) {
+      /* Sliding: the spring holds exactly the Coulomb force, no damping (as LIGGGHTS). */
+      double ratio = elastic_size > 0.0 ? limit / elastic_size : 0.0;
+      for (int k = 0; k < 3; k++) {
+        elastic_t[k] *= ratio;
+        tangential_force[k] = elastic_t[k];
+      }
+    } else {
+      for (int k = 0; k < 3; k++) tangential_force[k] = elastic_t[k] - gamma_t * u_t[k];
+    }
+    history[3] = k_t;
+    history[4] = normal_force;
+  }
+
+  double force_i[3];
+  for (int k = 0; k < 3; k++) {
+    out->force_j[k] = normal_force * n[k] + tangential_force[k];
+    out->tangential_force[k] = tangential_force[k];
+    force_i[k] = -out->force_j[k];
+  }
+  poly_cross3_d(arm_i, force_i, out->torque_i);
+  poly_cross3_d(arm_j, out->force_j, out->torque_j);
+  out->normal_force = normal_force;
+  out->normal_stiffness = k_n;
+  out->tangential_stiffness = k_t;
+}
+
+#endif
