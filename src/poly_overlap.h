@@ -75,11 +75,12 @@ typedef struct poly_overlap_result {
     int capacity_vertices, capacity_triangles, capacity_points;                                     \
     int use_filter;                    /* 1 (default): half-space triangle filter; 0: all triangles */ \
     REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
-    REAL *planes_a, *planes_b;         /* unnormalised normals for the predicates, 3 * capacity_triangles */ \
+    REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \
     REAL *normals_b;                   /* B's unit normals in the local frame */                   \
+    REAL *bounds_a, *bounds_b;         /* per kept triangle: low xyz, high xyz */                  \
     unsigned char *kept_a, *kept_b;    /* triangles that survive the half-space filter */           \
     unsigned char *inside_a, *inside_b;/* vertex of A inside B, and vice versa */                   \
-    REAL *crossings;                   /* crossing parameters along one edge, capacity_triangles */ \
+    REAL *crossings;                   /* along one edge: parameters, then directions; 2 * capacity_triangles */ \
     REAL *points;                      /* intersection nodes, 3 * capacity_points */                \
   } poly_overlap_workspace##SUFFIX;
 
