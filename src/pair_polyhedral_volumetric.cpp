@@ -3,6 +3,7 @@
 #include <math.h>
 #include <mpi.h>
 #include <string.h>
+#include <map>
 
 #include "atom.h"
 #include "comm.h"
@@ -191,6 +192,7 @@ void PairPolyhedralVolumetric::load_materials()
                                                          "coefficientFriction", "property/global", "peratomtypepair", n, n, caller))
                                                    : NULL;
   materials.assign((n + 1) * (n + 1), poly_material_pair());
+  std::map<double, double> beta_of_restitution;
   for (int i = 1; i <= n; i++) {
     double youngs_i = youngs->compute_vector(i - 1), poisson_i = poisson->compute_vector(i - 1);
     if (!(youngs_i > 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: youngsModulus must be > 0");
@@ -201,7 +203,9 @@ void PairPolyhedralVolumetric::load_materials()
       double mu = friction ? friction->compute_array(i - 1, j - 1) : 0.0;
       if (!(e > 0.0 && e <= 1.0)) error->all(FLERR, "Pair polyhedral/volumetric: coefficientRestitution must be in (0, 1]");
       if (!(mu >= 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: coefficientFriction must be >= 0");
-      poly_material_pair_make(youngs_i, poisson_i, youngs_j, poisson_j, e, mu, &materials[i * (n + 1) + j]);
+      if (!beta_of_restitution.count(e)) beta_of_restitution[e] = poly_damping_beta_for_restitution(e);
+      poly_material_pair_make(youngs_i, poisson_i, youngs_j, poisson_j, beta_of_restitution[e], mu,
+                              &materials[i * (n + 1) + j]);
     }
   }
 }

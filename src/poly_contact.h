@@ -12,9 +12,17 @@
  * and the law is LIGGGHTS' `model hertz`: the same E* and G* (G* as LIGGGHTS
  * defines it), and damping from the restitution coefficient e as LIGGGHTS does,
  *   gamma = 2 sqrt(5/6) |beta| sqrt(S m*),  beta = ln e / sqrt(ln^2 e + pi^2),
- * with S = k_n for the normal and S = k_t for the tangential direction.
+ * with S = k_n for the normal and S = k_t for the tangential direction, and
+ * beta as below.
  * The force acts at the overlap centroid, so both bodies feel torques.
- * No attractive normal force: F_n is clamped at zero.
+ * No attractive normal force: F_n is clamped at zero. LIGGGHTS' beta(e) is
+ * exact only when the force may turn attractive at the end of the contact
+ * (with the clamp it gives e = 0.55 for a requested 0.5), so beta is instead
+ * chosen such that the clamped Hertz contact rebounds with exactly the
+ * requested e (poly_damping_beta_for_restitution). With e = 1 (no damping)
+ * the normal law is LIGGGHTS' Hertz force for spheres. The tangential spring
+ * follows document 000 (eqs. 4.8, 4.9: stiffness rescaling on unloading only),
+ * not LIGGGHTS' `tangential history`, which rescales on loading too.
  *
  * Header-only C for the CPU style and the CUDA kernels alike.
  */
@@ -35,7 +43,7 @@ enum { POLY_HISTORY_SIZE = 5 };
 typedef struct poly_material_pair {
   double youngs_effective;   /* E*: 1/E* = (1-nu_i^2)/E_i + (1-nu_j^2)/E_j */
   double shear_effective;    /* G*: 1/G* = 2(2-nu_i)(1+nu_i)/E_i + 2(2-nu_j)(1+nu_j)/E_j */
-  double damping_beta;       /* |ln e| / sqrt(ln^2 e + pi^2) */
+  double damping_beta;       /* poly_damping_beta_for_restitution(e) */
   double friction;           /* mu */
 } poly_material_pair;
 
@@ -58,14 +66,62 @@ typedef struct poly_contact_output {
   double normal_stiffness, tangential_stiffness;
 } poly_contact_output;
 
+/* Restitution of a Hertz contact with damping 2 sqrt(5/6) beta sqrt(k_n m*) and
+ * no attraction. In units of the impact speed and the Hertz length and time it
+ * is X'' = -X^(3/2) - sqrt(5) beta X^(1/4) X' (force clamped at 0), X(0) = 0,
+ * X'(0) = 1: independent of speed, size and stiffness, so one integration
+ * (RK4) per value of beta suffices. */
+POLY_INLINE double poly_clamped_hertz_restitution(double beta)
+{
+  const double c = sqrt(5.0) * beta, dt = 2e-3;
+  double x = 0.0, v = 1.0, t = 0.0;
+  for (;;) {
+    double xs[4], vs[4], ax[4], av[4];
+    for (int stage = 0; stage < 4; stage++) {
+      double h = stage == 0 ? 0.0 : (stage == 3 ? dt : 0.5 * dt);
+      xs[stage] = x + h * (stage ? ax[stage - 1] : 0.0);
+      vs[stage] = v + h * (stage ? av[stage - 1] : 0.0);
+      double force = 0.0;
+      if (xs[stage] > 0.0) {
+        force = pow(xs[stage], 1.5) + c * pow(xs[stage], 0.25) * vs[stage];
+        if (force < 0.0) force = 0.0;
+      }
+      ax[stage] = vs[stage];
+      av[stage] = -force;
+    }
+    double x_next = x + dt / 6.0 * (ax[0] + 2.0 * ax[1] + 2.0 * ax[2] + ax[3]);
+    double v_next = v + dt / 6.0 * (av[0] + 2.0 * av[1] + 2.0 * av[2] + av[3]);
+    t += dt;
+    if (x_next <= 0.0 && t > 0.1) return -(v + (v_next - v) * x / (x - x_next));
+    if (t > 1e4) return 0.0; /* overdamped: the bodies never separate */
+    x = x_next;
+    v = v_next;
+  }
+}
+
+/* The beta whose clamped Hertz contact rebounds with restitution e (bisection
+ * on the monotone map above, to 1e-6 in e). */
+POLY_INLINE double poly_damping_beta_for_restitution(double restitution)
+{
+  if (restitution >= 1.0) return 0.0;
+  double low = 0.0, high = 64.0;
+  for (int iteration = 0; iteration < 40 && high - low > 1e-9; iteration++) {
+    double middle = 0.5 * (low + high);
+    if (poly_clamped_hertz_restitution(middle) > restitution) low = middle;
+    else high = middle;
+  }
+  return 0.5 * (low + high);
+}
+
+/* `damping_beta` from poly_damping_beta_for_restitution (which costs a few
+ * hundred RK4 integrations: callers compute it once per distinct e). */
 POLY_INLINE void poly_material_pair_make(double youngs_i, double poisson_i, double youngs_j, double poisson_j,
-                                         double restitution, double friction, poly_material_pair *pair)
+                                         double damping_beta, double friction, poly_material_pair *pair)
 {
   pair->youngs_effective = 1.0 / ((1.0 - poisson_i * poisson_i) / youngs_i + (1.0 - poisson_j * poisson_j) / youngs_j);
   pair->shear_effective = 1.0 / (2.0 * (2.0 - poisson_i) * (1.0 + poisson_i) / youngs_i +
                                  2.0 * (2.0 - poisson_j) * (1.0 + poisson_j) / youngs_j);
-  double log_e = log(restitution);
-  pair->damping_beta = restitution > 0.0 ? fabs(log_e) / sqrt(log_e * log_e + POLY_PI * POLY_PI) : 1.0;
+  pair->damping_beta = damping_beta;
   pair->friction = friction;
 }
 

@@ -1,0 +1,280 @@
+"""pair_style polyhedral/volumetric against physics: icosphere collisions against LIGGGHTS'
+own `pair_style gran model hertz tangential history` on true spheres (run here, in the same
+launcher), energy and restitution, a polyhedron at rest, and a block on a slope.
+
+The collision decks and their analysis are shared with tools/sphere_collision_study.py, whose
+table (doc/contact_verification.md) shows how the errors below shrink with resolution; the
+tolerances here are set from that table and from the spread over orientations it reports.
+"""
+import math
+import pathlib
+import sys
+
+import numpy as np
+import pytest
+
+import decks
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "tools"))
+import sphere_collision_study as study  # noqa: E402
+
+G = 9.81
+FRICTION = 0.5
+COLLISION_DT = 2e-6  # 1/900 of the 1.8 ms Hertz contact time
+
+
+def collide(run_deck, tmp_path, shape, name, offset=0.0, **options):
+    """Runs one collision of study.collision_deck and returns study.measure's results."""
+    result = run_deck(study.collision_deck(shape, offset=offset, dt=COLLISION_DT, **options),
+                      workdir=tmp_path / name)
+    assert result.returncode == 0, result.output[-3000:]
+    assert not [w for w in result.warning_lines() if "time step" in w], result.warning_lines()
+    measured = study.measure(result.workdir, shape, offset, COLLISION_DT)
+    # one contact, over before the run ends: the durations below are complete
+    assert measured["separated"], measured["touching_steps"][-5:]
+    return measured
+
+
+def relative(value, reference):
+    return abs(value - reference) / abs(reference)
+
+
+# a. head-on -------------------------------------------------------------------------------------
+
+def test_head_on_icospheres_match_liggghts_hertz_spheres(run_deck, tmp_path):
+    sphere = collide(run_deck, tmp_path, "sphere", "sphere")
+    poly = collide(run_deck, tmp_path, 1280, "icosphere")
+    errors = {key: relative(poly[key], sphere[key]) for key in ("duration", "max_overlap", "restitution")}
+    print("\nhead-on, icosphere_1280 vs LIGGGHTS spheres:",
+          {key: f"{poly[key]:.6g} vs {sphere[key]:.6g} ({100 * err:.2f}%)" for key, err in errors.items()})
+    # The volumetric law on exact spheres differs from Hertz by +0.3% in duration (lens volume
+    # V = pi delta^2 R*(1 - delta/6R) at delta/R = 0.11); at 1280 triangles the facets add up to 0.8%
+    # over orientations (study table). 2%: a 6% error in E* (t ~ E*^-0.4) fails it.
+    assert errors["duration"] < 0.02, errors
+    # The depth column is the extent of the overlap along n, which includes the sagitta of the facets
+    # (edge^2/8R ~ 0.02 mm per body at 1280 triangles, ~2% of the 1.12 mm maximum); measured +1.1 to
+    # +2.0% over orientations. 4%: a 10% error in E* (delta_max ~ E*^-0.4) fails it.
+    assert errors["max_overlap"] < 0.04, errors
+    # Same damping law as LIGGGHTS: the model difference is 0.01%, facets add up to 0.4%.
+    assert errors["restitution"] < 0.015, errors
+
+
+# b. oblique, with friction ----------------------------------------------------------------------
+
+def test_oblique_icospheres_match_liggghts_hertz_spheres(run_deck, tmp_path):
+    """Offset 0.8 D (impact 53 deg from the normal): the contact slides for most of its duration,
+    where LIGGGHTS' spring and the law's incremental spring agree (0.6% in spin, study table)."""
+    offset = 0.8 * study.D
+    sphere = collide(run_deck, tmp_path, "sphere", "sphere", offset=offset, friction=FRICTION)
+    poly = collide(run_deck, tmp_path, 1280, "icosphere", offset=offset, friction=FRICTION)
+    print(f"\noblique 0.8 D: omega_z {poly['omega']:.5g} vs {sphere['omega']:.5g} rad/s, "
+          f"restitution {poly['restitution']:.5g} vs {sphere['restitution']:.5g}")
+    assert sphere["omega"] > 50.0  # friction really spins the spheres up (75 rad/s)
+    # 0.6% model difference plus up to 1.1% from the facets over orientations: 3%.
+    assert relative(poly["omega"], sphere["omega"]) < 0.03, (poly["omega"], sphere["omega"])
+    # up to 1.2% over orientations at 1280 triangles: 2.5%
+    assert relative(poly["restitution"], sphere["restitution"]) < 0.025, (poly["restitution"],
+                                                                         sphere["restitution"])
+    # both particles spin alike (the collision is symmetric up to the facets)
+    assert poly["omega_difference"] < 0.02 * abs(poly["omega"]), poly["omega_difference"]
+
+
+def test_oblique_sticking_impact_follows_the_incremental_tangential_spring(run_deck, tmp_path):
+    """Offset 0.5 D (30 deg): the contact sticks for much of its duration, where the tangential
+    springs differ. LIGGGHTS' force is -k_t(now) times the accumulated displacement; the law's
+    (document 000 eqs. 4.8/4.9) accumulates -k_t u_t dt and rescales only while unloading, which
+    leaves 19% more rebound spin. An independent point-contact integration of both springs on
+    spheres (study.point_contact_spheres) is checked against the LIGGGHTS run here, then serves
+    as the reference for the icospheres."""
+    offset = 0.5 * study.D
+    sphere = collide(run_deck, tmp_path, "sphere", "sphere", offset=offset, friction=FRICTION)
+    as_liggghts = study.point_contact_spheres(offset, 0.8, FRICTION, COLLISION_DT, tangential="liggghts")
+    for key in ("duration", "max_overlap", "restitution", "omega"):
+        # Same algorithm and integrator: agreement to round-off (5e-15 measured; durations are
+        # whole steps). 1e-6 would catch any difference in the law.
+        assert relative(as_liggghts[key], sphere[key]) < 1e-6, (key, as_liggghts[key], sphere[key])
+    law = study.point_contact_spheres(offset, 0.8, FRICTION, COLLISION_DT, tangential="incremental",
+                                      volume="lens")
+    poly = collide(run_deck, tmp_path, 5120, "icosphere", offset=offset, friction=FRICTION)
+    print(f"\noblique 0.5 D: omega_z icosphere_5120 {poly['omega']:.5g}, law on spheres {law['omega']:.5g}, "
+          f"LIGGGHTS {sphere['omega']:.5g} rad/s; restitution {poly['restitution']:.5g} vs "
+          f"{sphere['restitution']:.5g}")
+    assert relative(law["omega"], sphere["omega"]) > 0.1  # the two springs really differ here
+    # 5120 triangles: +0.6% here, up to +1.4% over orientations (study table). 3% is a sixth of
+    # the 19% that separates the two springs.
+    assert relative(poly["omega"], law["omega"]) < 0.03, (poly["omega"], law["omega"])
+    # restitution is insensitive to the spring (0.2%); facets at 5120: 0.1%
+    assert relative(poly["restitution"], sphere["restitution"]) < 0.01
+
+
+# c. energy and restitution ----------------------------------------------------------------------
+
+def test_undamped_head_on_collision_conserves_kinetic_energy(run_deck, tmp_path):
+    poly = collide(run_deck, tmp_path, 1280, "icosphere", damping="off")
+    before, after = poly["kinetic"]
+    print(f"\ndamping off: kinetic energy after/before = {after / before:.7f}, restitution "
+          f"{poly['restitution']:.6f}")
+    # Elastic law (F_n from the overlap geometry alone) and a 1/900 time step: the loss is the
+    # integration error, 0.01% measured; required: 0.1%.
+    assert relative(after, before) < 1e-3, (before, after)
+    assert relative(poly["restitution"], 1.0) < 1e-3, poly["restitution"]
+
+
+def test_restitution_coefficient_is_reproduced(run_deck, tmp_path):
+    poly = collide(run_deck, tmp_path, 1280, "icosphere", restitution=0.5)
+    print(f"\ncoefficientRestitution 0.5: measured {poly['restitution']:.5f}")
+    # required: 3%
+    assert relative(poly["restitution"], 0.5) < 0.03, poly["restitution"]
+
+
+def test_restitution_matches_liggghts_hertz(run_deck, tmp_path):
+    """LIGGGHTS' Hertz (whose force may turn attractive at the end of a contact) and the law (no
+    attraction, damping calibrated for it) both rebound with the requested coefficient."""
+    sphere = collide(run_deck, tmp_path, "sphere", "sphere", restitution=0.5)
+    poly = collide(run_deck, tmp_path, 1280, "icosphere", restitution=0.5)
+    print(f"\ncoefficientRestitution 0.5: icosphere_1280 {poly['restitution']:.5f}, "
+          f"LIGGGHTS {sphere['restitution']:.5f}")
+    # facets (as in the head-on test): 1.5%
+    assert relative(poly["restitution"], sphere["restitution"]) < 0.015
+
+
+# d. a polyhedron at rest ------------------------------------------------------------------------
+
+def two_type_scene(block_file, block_scale, block_pose, support_file="box_1x2x3.off", support_scale=0.1):
+    """Block (type 1, integrated) on a frozen support (type 2, no time integration) whose top face
+    is z = 0: box_1x2x3 at scale 0.1 lies flat (body axes: 0.3 along x, 0.1 along z)."""
+    return (decks.header(boundary="f f f", lo=-0.3, hi=0.3, ntypes=2) +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n"
+            "fix m1 all property/global youngsModulus peratomtype 1e7 1e7\n"
+            "fix m2 all property/global poissonsRatio peratomtype 0.25 0.25\n"
+            "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
+            f"fix m4 all property/global coefficientFriction peratomtypepair 2 {FRICTION} {FRICTION} "
+            f"{FRICTION} {FRICTION}\n" +
+            decks.template("block", block_file, scale=block_scale, atom_type=1) +
+            decks.template("support", support_file, scale=support_scale, atom_type=2, seed=32452843) +
+            "pair_style polyhedral/volumetric tangential history damping on\npair_coeff * *\n"
+            "create_polyhedron support 0 0 -0.05\n"
+            f"create_polyhedron block {block_pose}\n"
+            "group mobile type 1\nfix integrate mobile nve/polyhedron\n"
+            "compute contacts all pair/polyhedral/local\n"
+            "timestep 1e-5\n"
+            "dump state mobile custom 100 state.txt id x y z vx vy vz omegax omegay omegaz\n"
+            "dump_modify state format \"%d" + " %.17g" * 9 + "\"\n"
+            "dump contacts all local 100 contacts.txt " + " ".join(f"c_contacts[{k}]" for k in range(1, 17)) + "\n"
+            "dump_modify contacts format \"" + " ".join(["%.17g"] * 16) + "\"\n")
+
+
+def block_series(workdir, dt=1e-5):
+    """Steps, times and the block's rows (x y z vx vy vz wx wy wz) of state.txt, the block's id, and
+    the contact rows by step."""
+    frames = study.read_state(workdir / "state.txt")
+    steps = np.array(sorted(frames))
+    (block,) = frames[steps[0]]  # the only integrated particle
+    state = np.array([frames[s][block] for s in steps])
+    return steps, steps * dt, state, block, study.read_local(workdir / "contacts.txt")
+
+
+def test_cube_comes_to_rest_on_a_frozen_box(run_deck, tmp_path):
+    edge, density = 0.02, 2500.0
+    # cube turned 20 deg about z, bottom face on z = 0 (zero overlap), released under gravity
+    deck = two_type_scene("cube.stl", edge, f"0.01 -0.02 {edge / 2} quat {math.cos(math.radians(10))} 0 0 "
+                          f"{math.sin(math.radians(10))}")
+    deck += "fix gravity mobile gravity 9.81 vector 0 0 -1\nrun 35000\n"
+    result = run_deck(deck)
+    assert result.returncode == 0, result.output[-3000:]
+    steps, t, state, block, contacts = block_series(result.workdir)
+    window = t >= 0.05  # settled after 0.05 s (the heave decays in ~3 ms); window 0.3 s
+    speed = np.max(np.linalg.norm(state[window, 3:6], axis=1))
+    spin = np.max(np.linalg.norm(state[window, 6:9], axis=1))
+    drift = np.ptp(state[window, 2])
+    mass = density * edge ** 3
+    forces = []
+    for s in steps[window]:
+        assert len(contacts.get(s, [])) == 1, (s, contacts.get(s))
+        row = contacts[s][0]
+        sign = 1.0 if row[1] == block else -1.0  # columns 11-16: force on particle 2
+        forces.append(sign * (row[12] + row[15]))
+    force = np.mean(forces)
+    volume, depth = row[2], row[3]  # at the end
+    # closed form of the law for a flat face of area A sunk by delta: V = A delta,
+    # F = 4/(3 sqrt(pi)) E* sqrt(V delta) = 4/(3 sqrt(pi)) E* sqrt(A) delta
+    youngs_eff = 1.0 / (2.0 * (1.0 - 0.25 ** 2) / 1e7)
+    expected_depth = mass * G / (4.0 / (3.0 * math.sqrt(math.pi)) * youngs_eff * edge)
+    print(f"\ncube at rest: max speed {speed:.2e} m/s, max spin {spin:.2e} rad/s, z drift {drift:.2e} m over "
+          f"0.3 s, contact force / weight - 1 = {force / (mass * G) - 1:.1e}, depth / closed form - 1 = "
+          f"{depth / expected_depth - 1:.1e}, volume / (a^2 depth) - 1 = {volume / (edge * edge * depth) - 1:.1e}")
+    # The static depth is 2.4 um. Creep at 1e-8 m/s would move the cube 3 nm (0.1% of that) in the
+    # window; measured: round-off, ~1e-13 m/s. Growing jitter would cross these bounds too.
+    assert speed < 1e-8, speed
+    assert spin < 1e-6, spin  # 1e-6 rad/s tilts the face by 3e-7 rad over the window: 3 nm at its edge
+    assert drift < 1e-10, drift  # 4e-5 of the static depth
+    assert relative(force, mass * G) < 0.01, (force, mass * G)
+    # the law itself on a face contact: 1% (measured 4e-11)
+    assert relative(depth, expected_depth) < 0.01, (depth, expected_depth)
+    assert relative(volume, edge * edge * depth) < 0.01, volume
+
+
+# e. a block on a slope --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("angle", [20.0, 25.0, 30.0, 35.0])
+def test_block_on_slope_sticks_below_and_slides_above_the_friction_angle(run_deck, tmp_path, angle):
+    """A 10 x 20 x 30 mm box lying flat on a frozen 100 x 200 x 300 mm box; gravity turns quasi-
+    statically (0.1 s ramp, after 0.05 s of settling) from vertical to `angle` from the vertical in the
+    x-z plane, then holds for 0.25 s. Friction angle: atan(0.5) = 26.57 deg."""
+    tilt = math.radians(angle)
+    deck = two_type_scene("box_1x2x3.off", 0.01, "-0.1 0 0.005")
+    deck += ("fix gravity mobile gravity 9.81 vector 0 0 -1\nrun 5000\nunfix gravity\n"
+             f"variable gx equal sin({angle}*PI/180*ramp(0,1))\n"
+             f"variable gz equal -cos({angle}*PI/180*ramp(0,1))\n"
+             "fix gravity mobile gravity 9.81 vector v_gx 0 v_gz\nrun 10000\nunfix gravity\n"
+             f"fix gravity mobile gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\nrun 25000\n")
+    result = run_deck(deck)
+    assert result.returncode == 0, result.output[-3000:]
+    _, t, state, _, _ = block_series(result.workdir)
+    if math.tan(tilt) < FRICTION:
+        # tan(25 deg) = 0.93 mu. The end of the ramp leaves the block rocking by ~1e-5 m/s; this decays
+        # fivefold every 20 ms, so the window starts 0.1 s into the hold and lasts 0.15 s.
+        window = t >= 0.25
+        creep = np.ptp(state[window, 0])
+        speed = np.max(np.linalg.norm(state[window, 3:6], axis=1))
+        print(f"\n{angle} deg: x moves {creep:.2e} m over 0.15 s, max speed {speed:.2e} m/s")
+        # The elastic tangential deflection is F_t/k_t ~ 0.5 um at 25 deg; 1 nm (0.2% of it) of creep in
+        # 0.15 s would be a slowly slipping contact. Measured: 2e-12 m, 2e-9 m/s (the decaying rocking).
+        assert creep < 1e-9, creep
+        assert speed < 1e-7, speed
+    else:
+        window = (t >= 0.17) & (t <= 0.3)  # sliding since the ramp passed 26.6 deg; fit over 0.13 s
+        acceleration = np.polyfit(t[window], state[window, 3], 1)[0]
+        expected = G * (math.sin(tilt) - FRICTION * math.cos(tilt))
+        mu_effective = math.tan(tilt) - acceleration / (G * math.cos(tilt))
+        print(f"\n{angle} deg: acceleration {acceleration:.5f} m/s^2, g(sin a - mu cos a) = {expected:.5f}, "
+              f"effective mu {mu_effective:.5f}")
+        # Sliding friction is mu F_n exactly (spring saturated), so the mean acceleration is exact up to
+        # the rocking of the block: while it slides, F_n swings between 0.06 and 2.2 times the weight at
+        # the contact's natural frequency (~380 Hz; see the module's last test), which averages out over
+        # the 50 periods of the fit. Stated as the effective friction coefficient: 1% of mu, which is
+        # 2.5% of the acceleration at 35 deg, 6% at 30 deg. Measured: 0.01%.
+        assert abs(mu_effective - FRICTION) < 0.01 * FRICTION, (acceleration, expected)
+        assert acceleration > 0.0
+
+
+@pytest.mark.xfail(strict=True, reason="known: a block set down on a 25 deg slope (tan = 0.93 mu) walks "
+                   "down it at ~1.5 mm/s, rocking at ~0.2 rad/s without decay; the volumetric law damps only "
+                   "the normal velocity at the overlap centroid, and not at all while sliding, so rocking "
+                   "about the centroid is undamped once it makes the contact slip; remove this mark when fixed")
+def test_block_set_down_on_a_slope_below_the_friction_angle_sticks(run_deck, tmp_path):
+    """As above at 25 deg, but the block is set down on the slope (zero overlap, gravity tilted from
+    the start) instead of the slope tilting under it: the landing makes the contact slip briefly,
+    after which the block should stick."""
+    tilt = math.radians(25.0)
+    deck = two_type_scene("box_1x2x3.off", 0.01, "-0.1 0 0.005")
+    deck += f"fix gravity mobile gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\nrun 30000\n"
+    result = run_deck(deck)
+    assert result.returncode == 0, result.output[-3000:]
+    _, t, state, _, _ = block_series(result.workdir)
+    window = t >= 0.2
+    creep = np.ptp(state[window, 0])
+    print(f"\nset down at 25 deg: x moves {creep:.2e} m in 0.1 s, max |omega_y| "
+          f"{np.max(np.abs(state[window, 7])):.2e} rad/s")
+    # Twice the elastic tangential deflection (0.5 um) in 0.1 s, 0.1 s after landing; measured 0.15 mm.
+    assert creep < 1e-6, creep
