@@ -2,7 +2,7 @@
 #   make            build build/lib/libpolyhedral.so and build/bin/liggghts-poly
 #   make install    copy them under $(PREFIX) (see Makefile.package)
 #   make test       build, then run the test suite
-#   make example    build, run examples/tumbling and render it to doc/images/tumbling.png
+#   make example    build, run examples/pile and render it to doc/images/pile.png
 include Makefile.package
 
 BUILD := build
@@ -60,12 +60,12 @@ test: all
 	/usr/bin/python3 -m pytest -q tests
 
 example: all
-	cd examples/tumbling && rm -rf post && mkdir -p post && \
-	  ../../$(LAUNCHER) -in in.tumbling -log post/log.lammps -var N 6
+	cd examples/pile && rm -rf post && mkdir -p post && \
+	  ../../$(LAUNCHER) -in in.pile -log post/log.lammps
 	@mkdir -p doc/images
-	/usr/bin/python3 tools/render_vtp.py examples/tumbling/post/particles_2500.vtp doc/images/tumbling.png \
-	  --colour shape --title "examples/tumbling: 36 particles of six shapes, t = 0.25 s"
-	@echo "wrote doc/images/tumbling.png and examples/tumbling/post/particles_*.vtp (open in ParaView)"
+	/usr/bin/python3 tools/render_vtp.py examples/pile/post/particles_20000.vtp doc/images/pile.png \
+	  --colour shape --title "examples/pile: 96 rocks and Schönhardt polyhedra on a bed of cubes"
+	@echo "wrote doc/images/pile.png and examples/pile/post/particles_*.vtp (open in ParaView)"
 
 clean:
 	rm -rf $(BUILD)
