@@ -1,0 +1,93 @@
+"""pair_style polyhedral/volumetric: bad input gives a clear ERROR line, like pair_style gran."""
+import pytest
+
+import decks
+
+MATERIALS = {
+    "youngsModulus": "fix m1 all property/global youngsModulus peratomtype 5e6\n",
+    "poissonsRatio": "fix m2 all property/global poissonsRatio peratomtype 0.25\n",
+    "coefficientRestitution": "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5\n",
+    "coefficientFriction": "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5\n",
+}
+
+
+def deck(pair="pair_style polyhedral/volumetric\npair_coeff * *\n", leave_out=(), header=None, extra=""):
+    text = header or (decks.header(boundary="f f f") + "neigh_modify delay 0\n")
+    text += "".join(line for name, line in MATERIALS.items() if name not in leave_out)
+    text += decks.template("cube", "cube.stl", scale=0.1)
+    text += pair + "create_polyhedron cube 0.5 0.5 0.5\nfix integrate all nve/polyhedron\n" + extra + "run 1\n"
+    return text
+
+
+@pytest.mark.parametrize("missing", list(MATERIALS))
+def test_missing_material_is_reported_like_pair_gran(run_deck, missing):
+    result = run_deck(deck(leave_out=(missing,)))
+    assert result.returncode != 0
+    assert any(f"Could not locate a fix/property storing value(s) for {missing} as requested by "
+               "polyhedral/volumetric" in line for line in result.error_lines()), result.output
+
+
+def test_scene_needs_only_the_materials_its_model_uses(run_deck):
+    """tangential off needs no friction, damping off no restitution."""
+    result = run_deck(deck(pair="pair_style polyhedral/volumetric tangential off damping off\npair_coeff * *\n",
+                           leave_out=("coefficientRestitution", "coefficientFriction")))
+    assert result.returncode == 0, result.output
+
+
+@pytest.mark.parametrize("pair, expected", [
+    ("pair_style polyhedral/volumetric rolling on\npair_coeff * *\n", "unknown keyword 'rolling'"),
+    ("pair_style polyhedral/volumetric tangential sometimes\npair_coeff * *\n", "invalid value 'sometimes' for 'tangential'"),
+    ("pair_style polyhedral/volumetric damping\npair_coeff * *\n", "keyword 'damping' needs a value"),
+    ("pair_style polyhedral/volumetric precision quad\npair_coeff * *\n", "invalid value 'quad' for 'precision'"),
+    ("pair_style polyhedral/volumetric\npair_coeff 1 1 0.5\n", "use 'pair_coeff * *'"),
+])
+def test_bad_pair_arguments(run_deck, pair, expected):
+    result = run_deck(deck(pair=pair))
+    assert result.returncode != 0
+    assert any(expected in line for line in result.error_lines()), result.output
+
+
+def test_bad_material_values(run_deck):
+    text = deck().replace("coefficientRestitution peratomtypepair 1 0.5", "coefficientRestitution peratomtypepair 1 1.5")
+    result = run_deck(text)
+    assert result.returncode != 0
+    assert any("coefficientRestitution must be in (0, 1]" in line for line in result.error_lines()), result.output
+
+
+def test_wrong_atom_style(run_deck):
+    header = ("atom_style sphere\natom_modify sort 0 0\nboundary f f f\nnewton off\ncommunicate single vel yes\n"
+              "region box block 0 1 0 1 0 1\ncreate_box 1 box\n")
+    text = (header + "".join(MATERIALS.values()) + "pair_style polyhedral/volumetric\npair_coeff * *\n"
+            "create_atoms 1 single 0.5 0.5 0.5\nrun 1\n")
+    result = run_deck(text)
+    assert result.returncode != 0
+    assert any("requires atom_style polyhedron" in line for line in result.error_lines()), result.output
+
+
+def test_missing_ghost_velocities_and_newton(run_deck):
+    no_vel = deck().replace("communicate single vel yes\n", "")
+    result = run_deck(no_vel)
+    assert result.returncode != 0
+    assert any("communicate single vel yes" in line for line in result.error_lines()), result.output
+    newton_on = deck().replace("newton off\n", "newton on\n")
+    result = run_deck(newton_on)
+    assert result.returncode != 0
+    assert any("requires newton pair off" in line for line in result.error_lines()), result.output
+
+
+def test_compute_needs_the_pair_style(run_deck):
+    text = (decks.header() + decks.template("cube", "cube.stl", scale=0.1) +
+            "create_polyhedron cube 0.5 0.5 0.5\ncompute c all pair/polyhedral/local\n"
+            "thermo_style custom step c_c\nrun 0\n")
+    result = run_deck(text)
+    assert result.returncode != 0
+    assert any("requires pair_style polyhedral/volumetric" in line for line in result.error_lines()), result.output
+
+
+def test_large_time_step_is_flagged(run_deck):
+    text = deck(extra="timestep 1e-2\n")
+    result = run_deck(text)
+    assert result.returncode == 0, result.output
+    assert any("Rayleigh time" in line for line in result.warning_lines()), result.output
+    quiet = run_deck(deck(extra="timestep 1e-6\n"))
+    assert not any("Rayleigh time" in line for line in quiet.warning_lines()), quiet.output
