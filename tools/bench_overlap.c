@@ -1,0 +1,192 @@
+/* CPU narrow-phase benchmark: cost of one poly_overlap call per particle pair.
+ *
+ *   bash tools/bench_overlap.sh [poses] [repeats]      (builds this file and runs it)
+ *   bench_overlap SHAPES_DIR [poses] [repeats]
+ *
+ * For each shape, `poses` pairs of that shape are placed as in a packed bed:
+ * both orientations uniformly random, B's centre along a random direction at
+ * the distance (bisected on the double-precision overlap) where the overlap
+ * volume is a target fraction of the particle volume, drawn log-uniformly in
+ * [0.1 %, 3 %]. Each configuration (double/single, triangle filter on/off)
+ * times the whole pose set, repeated until a repeat takes >= 20 ms; the table
+ * shows the median over `repeats` repeats, in microseconds per call.
+ */
+#define _POSIX_C_SOURCE 199309L
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "poly_overlap.h"
+
+static const char *const SHAPE_FILES[] = {"schoenhardt.stl", "cube.stl",  "icosphere_80.off",
+                                          "icosphere_320.off", "icosphere_1280.off", "rock_10.obj",
+                                          "rock_40.obj", "rock_70.obj", "rock_1000.obj"};
+#define NUM_SHAPES (int)(sizeof SHAPE_FILES / sizeof SHAPE_FILES[0])
+
+static const double PI = 3.14159265358979323846;
+
+/* splitmix64: a fixed, portable sequence. */
+static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
+static double uniform(void)
+{
+  uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  z ^= z >> 31;
+  return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Uniform random rotation (Shoemake). */
+static void random_quaternion(double q[4])
+{
+  double u1 = uniform(), u2 = 2.0 * PI * uniform(), u3 = 2.0 * PI * uniform();
+  double a = sqrt(1.0 - u1), b = sqrt(u1);
+  q[0] = a * sin(u2); q[1] = a * cos(u2); q[2] = b * sin(u3); q[3] = b * cos(u3);
+}
+
+static void random_direction(double d[3])
+{
+  double z = 2.0 * uniform() - 1.0, phi = 2.0 * PI * uniform(), r = sqrt(1.0 - z * z);
+  d[0] = r * cos(phi); d[1] = r * sin(phi); d[2] = z;
+}
+
+static double now(void)
+{
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+typedef struct bench_shape {
+  poly_shape shape;
+  poly_shape_view_d view_d;
+  poly_shape_view_f view_f;
+} bench_shape;
+
+static volatile double sink;
+
+/* Median over `repeats` of the time per call (microseconds) of the whole pose set. */
+static double time_configuration(const bench_shape *s, const poly_pose *poses_a, const poly_pose *poses_b,
+                                 int num_poses, int single, int use_filter, poly_overlap_workspace_d *ws_d,
+                                 poly_overlap_workspace_f *ws_f, int repeats)
+{
+  ws_d->use_filter = use_filter;
+  ws_f->use_filter = use_filter;
+  poly_overlap_result result;
+  double sum = 0.0;
+  int rounds = 1;
+  double *samples = (double *)malloc(sizeof(double) * (size_t)repeats);
+  for (int r = -1; r < repeats; r++) { /* r = -1: warm-up and calibration */
+    double start = now();
+    for (int round = 0; round < rounds; round++)
+      for (int p = 0; p < num_poses; p++) {
+        if (single) poly_overlap_f(&s->view_f, &poses_a[p], &s->view_f, &poses_b[p], ws_f, &result);
+        else poly_overlap_d(&s->view_d, &poses_a[p], &s->view_d, &poses_b[p], ws_d, &result);
+        sum += result.volume;
+      }
+    double elapsed = now() - start;
+    if (r < 0) {
+      while (elapsed * rounds < 0.02) rounds *= 2;
+      continue;
+    }
+    samples[r] = 1e6 * elapsed / ((double)rounds * num_poses);
+  }
+  sink = sum;
+  qsort(samples, (size_t)repeats, sizeof(double), compare_doubles);
+  double median = repeats % 2 ? samples[repeats / 2] : 0.5 * (samples[repeats / 2 - 1] + samples[repeats / 2]);
+  free(samples);
+  return median;
+}
+
+int main(int argc, char **argv)
+{
+  if (argc < 2) {
+    fprintf(stderr, "usage: %s SHAPES_DIR [poses] [repeats]\n", argv[0]);
+    return 2;
+  }
+  int num_poses = argc > 2 ? atoi(argv[2]) : 64;
+  int repeats = argc > 3 ? atoi(argv[3]) : 5;
+  if (num_poses < 1 || repeats < 1) return 2;
+
+  bench_shape shapes[NUM_SHAPES];
+  int max_vertices = 0, max_triangles = 0;
+  for (int i = 0; i < NUM_SHAPES; i++) {
+    char path[4096], message[512];
+    snprintf(path, sizeof path, "%s/%s", argv[1], SHAPE_FILES[i]);
+    if (poly_shape_load(path, 1.0, &shapes[i].shape, message, sizeof message) != POLY_OK) {
+      fprintf(stderr, "%s\n", message);
+      return 1;
+    }
+    shapes[i].view_d = poly_shape_view_of(&shapes[i].shape);
+    if (poly_shape_view_make_f(&shapes[i].shape, &shapes[i].view_f) != 0) return 1;
+    if (shapes[i].shape.num_vertices > max_vertices) max_vertices = shapes[i].shape.num_vertices;
+    if (shapes[i].shape.num_triangles > max_triangles) max_triangles = shapes[i].shape.num_triangles;
+  }
+  poly_overlap_workspace_d ws_d;
+  poly_overlap_workspace_f ws_f;
+  if (poly_overlap_workspace_create_d(&ws_d, max_vertices, max_triangles) ||
+      poly_overlap_workspace_create_f(&ws_f, max_vertices, max_triangles))
+    return 1;
+
+  poly_pose *poses_a = (poly_pose *)malloc(sizeof(poly_pose) * (size_t)num_poses);
+  poly_pose *poses_b = (poly_pose *)malloc(sizeof(poly_pose) * (size_t)num_poses);
+  printf("poly_overlap per pair, %d poses per shape (overlap 0.1-3 %% of the particle volume), "
+         "median of %d repeats\n\n", num_poses, repeats);
+  printf("| shape | triangles | mean V/V_p | double, filter (us) | double, no filter (us) | single, filter (us) | "
+         "single, no filter (us) | filter speed-up (double) |\n");
+  printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  double total_start = now();
+  for (int i = 0; i < NUM_SHAPES; i++) {
+    const bench_shape *s = &shapes[i];
+    double volume = s->shape.volume, reach = 2.0 * s->shape.bounding_radius, fraction_sum = 0.0;
+    ws_d.use_filter = 1;
+    for (int p = 0; p < num_poses; p++) {
+      double direction[3];
+      memset(&poses_a[p], 0, sizeof poses_a[p]);
+      random_quaternion(poses_a[p].quaternion);
+      random_quaternion(poses_b[p].quaternion);
+      random_direction(direction);
+      double target = volume * pow(10.0, -3.0 + log10(30.0) * uniform());
+      double near = 0.0, far = reach;
+      poly_overlap_result result;
+      for (int iteration = 0; iteration < 50; iteration++) {
+        double middle = 0.5 * (near + far);
+        for (int k = 0; k < 3; k++) poses_b[p].position[k] = middle * direction[k];
+        poly_overlap_d(&s->view_d, &poses_a[p], &s->view_d, &poses_b[p], &ws_d, &result);
+        if (result.volume > target) near = middle;
+        else far = middle;
+      }
+      for (int k = 0; k < 3; k++) poses_b[p].position[k] = near * direction[k];
+      poly_overlap_d(&s->view_d, &poses_a[p], &s->view_d, &poses_b[p], &ws_d, &result);
+      fraction_sum += result.volume / volume;
+    }
+    double t[4];
+    for (int c = 0; c < 4; c++)
+      t[c] = time_configuration(s, poses_a, poses_b, num_poses, c / 2, !(c % 2), &ws_d, &ws_f, repeats);
+    const char *name = strrchr(SHAPE_FILES[i], '.');
+    printf("| %.*s | %d | %.2f %% | %.2f | %.2f | %.2f | %.2f | %.1fx |\n", (int)(name - SHAPE_FILES[i]),
+           SHAPE_FILES[i], s->shape.num_triangles, 100.0 * fraction_sum / num_poses, t[0], t[1], t[2], t[3],
+           t[1] / t[0]);
+    fflush(stdout);
+  }
+  printf("\ntotal %.1f s\n", now() - total_start);
+
+  free(poses_a);
+  free(poses_b);
+  poly_overlap_workspace_destroy_d(&ws_d);
+  poly_overlap_workspace_destroy_f(&ws_f);
+  for (int i = 0; i < NUM_SHAPES; i++) {
+    poly_shape_view_free_f(&shapes[i].view_f);
+    poly_shape_free(&shapes[i].shape);
+  }
+  return 0;
+}
