@@ -68,7 +68,7 @@ void poly_shape_view_free_f(poly_shape_view_f *view)
   void poly_overlap_workspace_destroy##SUFFIX(poly_overlap_workspace##SUFFIX *ws)                       \
   {                                                                                                     \
     free(ws->vertices_a); free(ws->vertices_b); free(ws->planes_a); free(ws->planes_b);                 \
-    free(ws->normals_b); free(ws->bounds_a); free(ws->bounds_b); free(ws->kept_a); free(ws->kept_b); free(ws->inside_a); free(ws->inside_b);    \
+    free(ws->normals_b); free(ws->bounds_a); free(ws->bounds_b); free(ws->kept_a); free(ws->kept_b); free(ws->kept_list_a); free(ws->kept_list_b); free(ws->inside_a); free(ws->inside_b);    \
     free(ws->crossings); free(ws->points);                                                              \
     memset(ws, 0, sizeof *ws);                                                                          \
   }                                                                                                     \
@@ -94,12 +94,14 @@ void poly_shape_view_free_f(poly_shape_view_f *view)
     ws->bounds_b = (REAL *)malloc(sizeof(REAL) * 6 * nt);                                               \
     ws->kept_a = (unsigned char *)malloc(nt);                                                           \
     ws->kept_b = (unsigned char *)malloc(nt);                                                           \
+    ws->kept_list_a = (int *)malloc(sizeof(int) * nt);                                                  \
+    ws->kept_list_b = (int *)malloc(sizeof(int) * nt);                                                  \
     ws->inside_a = (unsigned char *)malloc(nv);                                                         \
     ws->inside_b = (unsigned char *)malloc(nv);                                                         \
     ws->crossings = (REAL *)malloc(sizeof(REAL) * 2 * nt); /* parameters, then directions */            \
     ws->points = (REAL *)malloc(sizeof(REAL) * 3 * np);                                                 \
     if (!ws->vertices_a || !ws->vertices_b || !ws->planes_a || !ws->planes_b || !ws->normals_b ||       \
-        !ws->bounds_a || !ws->bounds_b ||                                                                 \
+        !ws->bounds_a || !ws->bounds_b || !ws->kept_list_a || !ws->kept_list_b ||                         \
         !ws->kept_a || !ws->kept_b || !ws->inside_a || !ws->inside_b || !ws->crossings || !ws->points) { \
       poly_overlap_workspace_destroy##SUFFIX(ws);                                                       \
       return -1;                                                                                        \

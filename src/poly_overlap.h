@@ -79,6 +79,7 @@ typedef struct poly_overlap_result {
     REAL *normals_b;                   /* B's unit normals in the local frame */                   \
     REAL *bounds_a, *bounds_b;         /* per kept triangle: low xyz, high xyz */                  \
     unsigned char *kept_a, *kept_b;    /* triangles that survive the half-space filter */           \
+    int *kept_list_a, *kept_list_b;    /* their indices, so no loop visits the others */            \
     unsigned char *inside_a, *inside_b;/* vertex of A inside B, and vice versa */                   \
     REAL *crossings;                   /* along one edge: parameters, then directions; 2 * capacity_triangles */ \
     REAL *points;                      /* intersection nodes, 3 * capacity_points */                \

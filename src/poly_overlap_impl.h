@@ -97,6 +97,24 @@ POLY_INLINE R POLY_FN(edge_side)(const R *p0, const R *p1, const R *q0, const R 
   return exact > 0 ? (R)1 : (exact < 0 ? (R)-1 : (R)0);
 }
 
+/* Sign of a plane_side value of a point of B (point_in_b) or of A, with the
+ * symbolic perturbation deciding an exact zero. */
+POLY_INLINE int POLY_FN(side_sign)(R side, int point_in_b, const R *vertices, const int *tri, const R *plane)
+{
+  if (side > 0) return 1;
+  if (side < 0) return -1;
+  /* The tie-break (v1-v0)x(v2-v0).u must have an exact sign too: rounded, it
+   * can disagree with another predicate's about the same perturbation. */
+  (void)plane;
+  double c0[3], c1[3], c2[3], ud[3];
+  POLY_FN(to_double)(vertices + 3 * tri[0], c0);
+  POLY_FN(to_double)(vertices + 3 * tri[1], c1);
+  POLY_FN(to_double)(vertices + 3 * tri[2], c2);
+  POLY_FN(to_double)(POLY_FN(perturbation)(), ud);
+  const double *high[3] = {c1, c2, ud}, *low[3] = {c0, c0, 0};
+  return POLY_FN(perturbed_sign)(0, (R)((point_in_b ? 1 : -1) * poly_det_sign_exact(high, low)));
+}
+
 /* Does the segment p0 -> p1 of one body cross triangle `tri` (vertices in
  * `vertices`; `plane` holds (v1-v0) x (v2-v0) and |v1-v0|_1 |v2-v0|_1) of the
  * other body? `segment_in_b` says which body the
@@ -111,33 +129,17 @@ POLY_INLINE int POLY_FN(segment_crosses_triangle)(const R *p0, const R *p1, int 
   const R *u = POLY_FN(perturbation)();
   R side0 = POLY_FN(plane_side)(p0, vertices, tri, plane);
   R side1 = POLY_FN(plane_side)(p1, vertices, tri, plane);
-  R side_first_order = (segment_in_b ? (R)1 : (R)-1) * POLY_FN(dot)(plane, u);
-  if (side0 == 0 || side1 == 0) {
-    /* The tie-break (v1-v0)x(v2-v0).u must have an exact sign too: rounded, it
-     * can disagree with another predicate's about the same perturbation. */
-    double c0[3], c1[3], c2[3], ud[3];
-    POLY_FN(to_double)(vertices + 3 * tri[0], c0);
-    POLY_FN(to_double)(vertices + 3 * tri[1], c1);
-    POLY_FN(to_double)(vertices + 3 * tri[2], c2);
-    POLY_FN(to_double)(u, ud);
-    const double *high[3] = {c1, c2, ud}, *low[3] = {c0, c0, 0};
-    side_first_order = (R)((segment_in_b ? 1 : -1) * poly_det_sign_exact(high, low));
-  }
-  int sign0 = POLY_FN(perturbed_sign)(side0, side_first_order);
-  int sign1 = POLY_FN(perturbed_sign)(side1, side_first_order);
+  int sign0 = POLY_FN(side_sign)(side0, segment_in_b, vertices, tri, plane);
+  int sign1 = POLY_FN(side_sign)(side1, segment_in_b, vertices, tri, plane);
   if (sign0 == sign1) return 0;
 
-  R direction[3];
-  POLY_FN(sub)(p1, p0, direction);
   int common = 0;
   for (int k = 0; k < 3; k++) {
     int from = tri[k], to = tri[k == 2 ? 0 : k + 1];
     int low = from < to ? from : to, high = from < to ? to : from;
     const R *q0 = vertices + 3 * low, *q1 = vertices + 3 * high;
-    R edge[3];
-    POLY_FN(sub)(q1, q0, edge);
     R orientation = POLY_FN(edge_side)(p0, p1, q0, q1);
-    R first_order = (segment_in_b ? (R)-1 : (R)1) * POLY_FN(det)(direction, u, edge);
+    R first_order = 0;
     if (orientation == 0) {
       /* Exact tie-break det(p1-p0, u, q1-q0): for a segment nearly parallel to
        * the edge the rounded value is noise. */
@@ -224,14 +226,15 @@ POLY_INLINE void POLY_FN(add_point)(POLY_FN(overlap_workspace) *ws, int *count, 
 /* Parity of crossings of the ray from x along `ray` with the kept triangles of `body`. */
 POLY_INLINE int POLY_FN(point_inside)(const R *x, const R *ray, R ray_length, int point_in_b, const R *vertices,
                                       const int *triangles, const R *planes, const R *bounds,
-                                      const unsigned char *kept, int num_triangles)
+                                      const int *kept_list, int num_kept)
 {
   R far_end[3], low[3], high[3];
   for (int k = 0; k < 3; k++) far_end[k] = x[k] + ray_length * ray[k];
   POLY_FN(segment_bounds)(x, far_end, low, high);
   int crossings = 0;
-  for (int t = 0; t < num_triangles; t++) {
-    if (!kept[t] || !POLY_FN(boxes_overlap)(low, high, bounds + 6 * t)) continue;
+  for (int n = 0; n < num_kept; n++) {
+    int t = kept_list[n];
+    if (!POLY_FN(boxes_overlap)(low, high, bounds + 6 * t)) continue;
     R lambda;
     crossings += 0 != POLY_FN(segment_crosses_triangle)(x, far_end, point_in_b, vertices, triangles + 3 * t,
                                                    planes + 4 * t, &lambda);
@@ -245,7 +248,7 @@ POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, cons
                                            const R *my_unit_normals, const unsigned char *my_inside, int mine_is_b,
                                            const POLY_FN(shape_view) *other, const R *other_vertices,
                                            const R *other_planes, const R *other_bounds,
-                                           const unsigned char *other_kept, const R *axis,
+                                           const int *other_kept_list, int other_num_kept, const R *axis,
                                            R slab_limit, POLY_FN(overlap_workspace) *ws,
                                            POLY_FN(accumulator) *acc, int *num_points, int *num_inconsistent)
 {
@@ -260,8 +263,9 @@ POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, cons
     R *entering = ws->crossings + ws->capacity_triangles; /* +1 where the edge enters the other body */
     R low[3], high[3];
     POLY_FN(segment_bounds)(p0, p1, low, high);
-    for (int t = 0; t < other->num_triangles; t++) {
-      if (!other_kept[t] || !POLY_FN(boxes_overlap)(low, high, other_bounds + 6 * t)) continue;
+    for (int n = 0; n < other_num_kept; n++) {
+      int t = other_kept_list[n];
+      if (!POLY_FN(boxes_overlap)(low, high, other_bounds + 6 * t)) continue;
       R lambda;
       int side = POLY_FN(segment_crosses_triangle)(p0, p1, mine_is_b, other_vertices, other->triangles + 3 * t,
                                                    other_planes + 4 * t, &lambda);
@@ -340,6 +344,19 @@ POLY_INLINE void POLY_FN(accumulate_triangle_pair)(const POLY_FN(shape_view) *a,
                                                    POLY_FN(accumulator) *acc)
 {
   const int *ta = a->triangles + 3 * t, *tb = b->triangles + 3 * s;
+  /* A triangle wholly on one side of the other's plane cannot cross it: the
+   * same signs the crossing tests would compute, so the answer is the same. */
+  int sides_a = 0, sides_b = 0;
+  for (int k = 0; k < 3; k++) {
+    const R *corner = va + 3 * ta[k];
+    sides_a += POLY_FN(side_sign)(POLY_FN(plane_side)(corner, vb, tb, planes_b + 4 * s), 0, vb, tb, planes_b + 4 * s);
+  }
+  if (sides_a == 3 || sides_a == -3) return;
+  for (int k = 0; k < 3; k++) {
+    const R *corner = vb + 3 * tb[k];
+    sides_b += POLY_FN(side_sign)(POLY_FN(plane_side)(corner, va, ta, planes_a + 4 * t), 1, va, ta, planes_a + 4 * t);
+  }
+  if (sides_b == 3 || sides_b == -3) return;
   /* The chord runs along n_t x n_s. Its direction is read from the crossings,
    * not from that cross product, which is noise for nearly coplanar triangles:
    * it ends where an edge of t (in t's order) enters B and starts where an edge
@@ -395,7 +412,7 @@ POLY_INLINE void POLY_FN(triangle_bounds)(const R *vertices, const int *tri, R *
 POLY_INLINE void POLY_FN(node_extent)(const POLY_FN(shape_view) *mine, const R *my_vertices,
                                       const unsigned char *my_inside, int mine_is_b,
                                       const POLY_FN(shape_view) *other, const R *other_vertices,
-                                      const R *other_planes, const unsigned char *other_kept,
+                                      const R *other_planes, const int *other_kept_list, int other_num_kept,
                                       const double *direction, double *low, double *high)
 {
   for (int i = 0; i < mine->num_vertices; i++) {
@@ -407,9 +424,10 @@ POLY_INLINE void POLY_FN(node_extent)(const POLY_FN(shape_view) *mine, const R *
   }
   for (int e = 0; e < mine->num_edges; e++) {
     const R *p0 = my_vertices + 3 * mine->edges[2 * e], *p1 = my_vertices + 3 * mine->edges[2 * e + 1];
-    for (int t = 0; t < other->num_triangles; t++) {
+    for (int n = 0; n < other_num_kept; n++) {
+      int t = other_kept_list[n];
       R lambda;
-      if (!other_kept[t] || !POLY_FN(segment_crosses_triangle)(p0, p1, mine_is_b, other_vertices,
+      if (!POLY_FN(segment_crosses_triangle)(p0, p1, mine_is_b, other_vertices,
                                                                 other->triangles + 3 * t, other_planes + 4 * t,
                                                                 &lambda))
         continue;
@@ -489,7 +507,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   /* Half-space filter (eq. 5.5) and bounding boxes of what survives. */
   R box_a_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_a_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
   R box_b_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_b_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
-  int kept_any_a = 0, kept_any_b = 0;
+  int num_kept_a = 0, num_kept_b = 0;
   for (int t = 0; t < a->num_triangles; t++) {
     const int *tri = a->triangles + 3 * t;
     R high = -(R)1e30;
@@ -499,7 +517,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     }
     ws->kept_a[t] = high >= limit_a;
     if (!ws->kept_a[t]) continue;
-    kept_any_a = 1;
+    ws->kept_list_a[num_kept_a++] = t;
     R low3[3], high3[3], e1[3], e2[3];
     POLY_FN(triangle_bounds)(va, tri, low3, high3);
     for (int k = 0; k < 3; k++) {
@@ -522,7 +540,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     }
     ws->kept_b[s] = low <= limit_b;
     if (!ws->kept_b[s]) continue;
-    kept_any_b = 1;
+    ws->kept_list_b[num_kept_b++] = s;
     R low3[3], high3[3], e1[3], e2[3];
     POLY_FN(triangle_bounds)(vb, tri, low3, high3);
     for (int k = 0; k < 3; k++) {
@@ -539,7 +557,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     for (int k = 0; k < 3; k++)
       ws->normals_b[3 * s + k] = (R)(rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2]);
   }
-  if (!kept_any_a || !kept_any_b) {
+  if (!num_kept_a || !num_kept_b) {
     result->filtered_out = 1;
     return;
   }
@@ -563,8 +581,8 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     int candidate = POLY_FN(dot)(x, axis) >= limit_a;
     for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= box_b_low[k] && x[k] <= box_b_high[k];
     ws->inside_a[i] = candidate ? (unsigned char)POLY_FN(point_inside)(x, ray_a, ray_length, 0, vb, b->triangles,
-                                                                         ws->planes_b, ws->bounds_b, ws->kept_b,
-                                                                         b->num_triangles)
+                                                                         ws->planes_b, ws->bounds_b, ws->kept_list_b,
+                                                                         num_kept_b)
                                 : 0;
     if (ws->inside_a[i]) POLY_FN(add_point)(ws, &num_points, x);
   }
@@ -573,23 +591,24 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     int candidate = POLY_FN(dot)(x, axis) <= limit_b;
     for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= box_a_low[k] && x[k] <= box_a_high[k];
     ws->inside_b[j] = candidate ? (unsigned char)POLY_FN(point_inside)(x, ray_b, ray_length, 1, va, a->triangles,
-                                                                         ws->planes_a, ws->bounds_a, ws->kept_a,
-                                                                         a->num_triangles)
+                                                                         ws->planes_a, ws->bounds_a, ws->kept_list_a,
+                                                                         num_kept_a)
                                 : 0;
     if (ws->inside_b[j]) POLY_FN(add_point)(ws, &num_points, x);
   }
 
   POLY_FN(accumulator) acc = {0, {0, 0, 0}, {0, 0, 0}, 0};
   int inconsistent = 0;
-  POLY_FN(accumulate_edges)(a, va, a->face_normals, ws->inside_a, 0, b, vb, ws->planes_b, ws->bounds_b, ws->kept_b,
-                            axis, limit_a, ws, &acc, &num_points, &inconsistent);
-  POLY_FN(accumulate_edges)(b, vb, ws->normals_b, ws->inside_b, 1, a, va, ws->planes_a, ws->bounds_a, ws->kept_a,
-                            axis, limit_b, ws, &acc, &num_points, &inconsistent);
-  for (int t = 0; t < a->num_triangles; t++) {
-    if (!ws->kept_a[t]) continue;
+  POLY_FN(accumulate_edges)(a, va, a->face_normals, ws->inside_a, 0, b, vb, ws->planes_b, ws->bounds_b,
+                            ws->kept_list_b, num_kept_b, axis, limit_a, ws, &acc, &num_points, &inconsistent);
+  POLY_FN(accumulate_edges)(b, vb, ws->normals_b, ws->inside_b, 1, a, va, ws->planes_a, ws->bounds_a,
+                            ws->kept_list_a, num_kept_a, axis, limit_b, ws, &acc, &num_points, &inconsistent);
+  for (int m = 0; m < num_kept_a; m++) {
+    int t = ws->kept_list_a[m];
     const R *box_t = ws->bounds_a + 6 * t;
-    for (int s = 0; s < b->num_triangles; s++) {
-      if (!ws->kept_b[s] || !POLY_FN(boxes_overlap)(box_t, box_t + 3, ws->bounds_b + 6 * s)) continue;
+    for (int n = 0; n < num_kept_b; n++) {
+      int s = ws->kept_list_b[n];
+      if (!POLY_FN(boxes_overlap)(box_t, box_t + 3, ws->bounds_b + 6 * s)) continue;
       POLY_FN(accumulate_triangle_pair)(a, va, ws->planes_a, a->face_normals, t, b, vb, ws->planes_b,
                                         ws->normals_b, s, &acc);
     }
@@ -624,8 +643,10 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   } else {
     /* More nodes than the workspace holds (very rare: long edges crossing many
      * faces): find them again rather than guess. */
-    POLY_FN(node_extent)(a, va, ws->inside_a, 0, b, vb, ws->planes_b, ws->kept_b, local_normal, &low, &high);
-    POLY_FN(node_extent)(b, vb, ws->inside_b, 1, a, va, ws->planes_a, ws->kept_a, local_normal, &low, &high);
+    POLY_FN(node_extent)(a, va, ws->inside_a, 0, b, vb, ws->planes_b, ws->kept_list_b, num_kept_b, local_normal, &low,
+                         &high);
+    POLY_FN(node_extent)(b, vb, ws->inside_b, 1, a, va, ws->planes_a, ws->kept_list_a, num_kept_a, local_normal, &low,
+                         &high);
   }
   result->depth = high > low ? high - low : 0.0;
 }
