@@ -49,21 +49,21 @@ POLY_INLINE int poly_grow_expansion(double *e, int n, double b)
   return m;
 }
 
-/* Exact sign of det(a - d, b - d, c - d). */
-POLY_INLINE int poly_orient_sign_exact(const double *a, const double *b, const double *c, const double *d)
+/* Exact sign of det(r0, r1, r2) with row r = high[r] - low[r] (low[r] null: the
+ * row is high[r] itself). */
+POLY_INLINE int poly_det_sign_exact(const double *const high[3], const double *const low[3])
 {
-  /* Each difference as a two-term expansion; the low part is usually zero
-   * (nearby coordinates subtract exactly), and zero parts are skipped. */
+  /* Each entry as a two-term expansion; the low part is usually zero (nearby
+   * coordinates subtract exactly), and zero parts are skipped. */
   double parts[3][3][2];
   int count[3][3];
-  const double *p[3] = {a, b, c};
   for (int r = 0; r < 3; r++)
     for (int k = 0; k < 3; k++) {
-      double high, low;
-      poly_two_sum(p[r][k], -d[k], &high, &low);
+      double hi = high[r][k], lo = 0.0;
+      if (low[r]) poly_two_sum(high[r][k], -low[r][k], &hi, &lo);
       int n = 0;
-      if (high != 0.0) parts[r][k][n++] = high;
-      if (low != 0.0) parts[r][k][n++] = low;
+      if (hi != 0.0) parts[r][k][n++] = hi;
+      if (lo != 0.0) parts[r][k][n++] = lo;
       count[r][k] = n;
     }
   /* det = sum over permutations (i, j, k) of sign * r0[i] r1[j] r2[k]. */
@@ -77,10 +77,10 @@ POLY_INLINE int poly_orient_sign_exact(const double *a, const double *b, const d
     for (int u = 0; u < count[0][i]; u++)
       for (int v = 0; v < count[1][j]; v++)
         for (int w = 0; w < count[2][k]; w++) {
-          double high, low, h1, l1, h2, l2;
-          poly_two_product(parts[0][i][u], parts[1][j][v], &high, &low);
-          poly_two_product(high, parts[2][k][w], &h1, &l1);
-          poly_two_product(low, parts[2][k][w], &h2, &l2);
+          double hi, lo, h1, l1, h2, l2;
+          poly_two_product(parts[0][i][u], parts[1][j][v], &hi, &lo);
+          poly_two_product(hi, parts[2][k][w], &h1, &l1);
+          poly_two_product(lo, parts[2][k][w], &h2, &l2);
           length = poly_grow_expansion(expansion, length, sign * h1);
           if (l1 != 0.0) length = poly_grow_expansion(expansion, length, sign * l1);
           if (h2 != 0.0) length = poly_grow_expansion(expansion, length, sign * h2);
@@ -90,6 +90,13 @@ POLY_INLINE int poly_orient_sign_exact(const double *a, const double *b, const d
   /* The most significant component of a non-overlapping expansion has the sign of the sum. */
   if (length == 0) return 0;
   return expansion[length - 1] > 0.0 ? 1 : -1;
+}
+
+/* Exact sign of det(a - d, b - d, c - d). */
+POLY_INLINE int poly_orient_sign_exact(const double *a, const double *b, const double *c, const double *d)
+{
+  const double *high[3] = {a, b, c}, *low[3] = {d, d, d};
+  return poly_det_sign_exact(high, low);
 }
 
 /* det(a - d, b - d, c - d) with a guaranteed sign: the floating-point value
@@ -111,44 +118,6 @@ POLY_INLINE double poly_orient(const double *a, const double *b, const double *c
   if (sign == 0) return 0.0;
   double magnitude = fabs(det) > 0.0 ? fabs(det) : 1e-300;
   return sign > 0 ? magnitude : -magnitude;
-}
-
-/* Exact sign of det(r0, r1, r2) with row r = high[r] - low[r] (low[r] null: the row is
- * high[r] itself). Breaks the ties of the symbolic perturbation in poly_overlap_impl.h. */
-POLY_INLINE int poly_det_sign_exact(const double *const high[3], const double *const low[3])
-{
-  double rows[3][3][2]; /* each row entry as a two-term expansion */
-  for (int r = 0; r < 3; r++)
-    for (int k = 0; k < 3; k++) {
-      if (low[r]) {
-        poly_two_sum(high[r][k], -low[r][k], &rows[r][k][0], &rows[r][k][1]);
-      } else {
-        rows[r][k][0] = high[r][k];
-        rows[r][k][1] = 0.0;
-      }
-    }
-  static const int permutations[6][4] = {{0, 1, 2, 1}, {1, 2, 0, 1}, {2, 0, 1, 1},
-                                         {0, 2, 1, -1}, {1, 0, 2, -1}, {2, 1, 0, -1}};
-  double expansion[6 * 8 * 4];
-  int length = 0;
-  for (int s = 0; s < 6; s++) {
-    int i = permutations[s][0], j = permutations[s][1], k = permutations[s][2];
-    double sign = permutations[s][3];
-    for (int u = 0; u < 2; u++)
-      for (int v = 0; v < 2; v++)
-        for (int w = 0; w < 2; w++) {
-          double high_part, low_part, h1, l1, h2, l2;
-          poly_two_product(rows[0][i][u], rows[1][j][v], &high_part, &low_part);
-          poly_two_product(high_part, rows[2][k][w], &h1, &l1);
-          poly_two_product(low_part, rows[2][k][w], &h2, &l2);
-          length = poly_grow_expansion(expansion, length, sign * h1);
-          length = poly_grow_expansion(expansion, length, sign * l1);
-          length = poly_grow_expansion(expansion, length, sign * h2);
-          length = poly_grow_expansion(expansion, length, sign * l2);
-        }
-  }
-  if (length == 0) return 0;
-  return expansion[length - 1] > 0.0 ? 1 : -1;
 }
 
 #endif

@@ -19,16 +19,11 @@ def driver(tmp_path_factory):
 
 
 def exact_sign(points):
-    a, b, c, d = [[Fraction(x) for x in p] for p in points]
-    u = [a[k] - d[k] for k in range(3)]
-    v = [b[k] - d[k] for k in range(3)]
-    w = [c[k] - d[k] for k in range(3)]
-    det = (u[0] * (v[1] * w[2] - v[2] * w[1]) + u[1] * (v[2] * w[0] - v[0] * w[2]) +
-           u[2] * (v[0] * w[1] - v[1] * w[0]))
-    return (det > 0) - (det < 0)
+    return naive_sign([[Fraction(x) for x in p] for p in points])
 
 
 def naive_sign(points):
+    """Sign of det(a-d, b-d, c-d) in the arithmetic of the coordinates (floats or Fractions)."""
     a, b, c, d = points
     u = [a[k] - d[k] for k in range(3)]
     v = [b[k] - d[k] for k in range(3)]

@@ -771,3 +771,30 @@ def test_degenerate_configuration_single(overlap_lib, shapes, errors, case):
         worst = max(worst, abs(result.volume - expected) / size ** 3)
     errors.add("degenerate |V - V_exact| / L^3", "f", worst)
     assert worst < 1e-4
+
+
+@pytest.mark.parametrize("precision", ["d", "f"])
+@pytest.mark.parametrize("scale", [1e-6, 1e6])
+def test_tiny_and_huge_particles(overlap_lib, scale, precision):
+    """Micrometre grains and kilometre blocks: the same pose scaled gives V * s^3 and the centroid,
+    depth and area scaled, with the errors of the unit-size case (nothing depends on absolute size)."""
+    rock = os.path.join(SHAPES, "rock_70.obj")
+    unit_a, unit_b = overlap_lib.shape(rock, 1.0), overlap_lib.shape(rock, 1.0)
+    big_a, big_b = overlap_lib.shape(rock, scale), overlap_lib.shape(rock, scale)
+    q_a, q_b = [0.9, 0.1, -0.3, 0.2], [0.3, 0.8, 0.1, -0.4]
+    norm = lambda q: [x / math.sqrt(sum(y * y for y in q)) for x in q]  # noqa: E731
+    centre = [0.3, -0.2, 0.1]
+    offset = [0.6, 0.15, -0.1]
+    unit = overlap_lib.overlap(unit_a, (centre, norm(q_a)), unit_b,
+                               ([c + o for c, o in zip(centre, offset)], norm(q_b)), precision)
+    scaled = overlap_lib.overlap(big_a, ([scale * c for c in centre], norm(q_a)), big_b,
+                                 ([scale * (c + o) for c, o in zip(centre, offset)], norm(q_b)), precision)
+    assert unit.volume > 1e-3 * unit_a.volume  # a real overlap
+    tolerance = 1e-12 if precision == "d" else 1e-5
+    assert abs(scaled.volume / scale ** 3 - unit.volume) <= tolerance * unit.volume, (scaled.volume, unit.volume)
+    assert abs(scaled.depth / scale - unit.depth) <= tolerance * unit.depth
+    assert abs(scaled.area / scale ** 2 - unit.area) <= tolerance * unit.area
+    for k in range(3):
+        assert abs(scaled.centroid[k] / scale - unit.centroid[k]) <= tolerance
+        assert abs(scaled.normal[k] - unit.normal[k]) <= 10 * tolerance
+    assert scaled.num_inconsistent == 0
