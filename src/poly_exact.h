@@ -67,7 +67,7 @@ POLY_INLINE int poly_det_sign_exact(const double *const high[3], const double *c
       count[r][k] = n;
     }
   /* det = sum over permutations (i, j, k) of sign * r0[i] r1[j] r2[k]. */
-  static const int permutations[6][4] = {{0, 1, 2, 1}, {1, 2, 0, 1}, {2, 0, 1, 1},
+  const int permutations[6][4] = {{0, 1, 2, 1}, {1, 2, 0, 1}, {2, 0, 1, 1},
                                          {0, 2, 1, -1}, {1, 0, 2, -1}, {2, 1, 0, -1}};
   double expansion[6 * 8 * 4];
   int length = 0;

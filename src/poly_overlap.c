@@ -64,53 +64,27 @@ void poly_shape_view_free_f(poly_shape_view_f *view)
   memset(view, 0, sizeof *view);
 }
 
-#define POLY_WORKSPACE_FUNCTIONS(REAL, SUFFIX)                                                           \
-  void poly_overlap_workspace_destroy##SUFFIX(poly_overlap_workspace##SUFFIX *ws)                       \
-  {                                                                                                     \
-    free(ws->vertices_a); free(ws->vertices_b); free(ws->planes_a); free(ws->planes_b);                 \
-    free(ws->normals_b); free(ws->bounds_a); free(ws->bounds_b); free(ws->kept_a); free(ws->kept_b); free(ws->kept_list_a); free(ws->kept_list_b); free(ws->inside_a); free(ws->inside_b);    \
-    free(ws->crossings); free(ws->points);                                                              \
-    memset(ws, 0, sizeof *ws);                                                                          \
-  }                                                                                                     \
-  int poly_overlap_workspace_create##SUFFIX(poly_overlap_workspace##SUFFIX *ws, int max_vertices,       \
-                                            int max_triangles)                                          \
-  {                                                                                                     \
-    memset(ws, 0, sizeof *ws);                                                                          \
-    size_t nv = (size_t)(max_vertices > 0 ? max_vertices : 1);                                          \
-    size_t nt = (size_t)(max_triangles > 0 ? max_triangles : 1);                                        \
-    /* Nodes: vertices inside plus edge crossings; a few per triangle covers any */                     \
-    /* realistic overlap, and more are found again rather than lost. */                                 \
-    size_t np = 2 * nv + 4 * nt + 64;                                                                   \
-    ws->capacity_vertices = (int)nv;                                                                    \
-    ws->capacity_triangles = (int)nt;                                                                   \
-    ws->capacity_points = (int)np;                                                                      \
-    ws->use_filter = 1;                                                                                 \
-    ws->vertices_a = (REAL *)malloc(sizeof(REAL) * 3 * nv);                                             \
-    ws->vertices_b = (REAL *)malloc(sizeof(REAL) * 3 * nv);                                             \
-    ws->planes_a = (REAL *)malloc(sizeof(REAL) * 4 * nt);                                               \
-    ws->planes_b = (REAL *)malloc(sizeof(REAL) * 4 * nt);                                               \
-    ws->normals_b = (REAL *)malloc(sizeof(REAL) * 3 * nt);                                              \
-    ws->bounds_a = (REAL *)malloc(sizeof(REAL) * 6 * nt);                                               \
-    ws->bounds_b = (REAL *)malloc(sizeof(REAL) * 6 * nt);                                               \
-    ws->kept_a = (unsigned char *)malloc(nt);                                                           \
-    ws->kept_b = (unsigned char *)malloc(nt);                                                           \
-    ws->kept_list_a = (int *)malloc(sizeof(int) * nt);                                                  \
-    ws->kept_list_b = (int *)malloc(sizeof(int) * nt);                                                  \
-    ws->inside_a = (unsigned char *)malloc(nv);                                                         \
-    ws->inside_b = (unsigned char *)malloc(nv);                                                         \
-    ws->crossings = (REAL *)malloc(sizeof(REAL) * 2 * nt); /* parameters, then directions */            \
-    ws->points = (REAL *)malloc(sizeof(REAL) * 3 * np);                                                 \
-    if (!ws->vertices_a || !ws->vertices_b || !ws->planes_a || !ws->planes_b || !ws->normals_b ||       \
-        !ws->bounds_a || !ws->bounds_b || !ws->kept_list_a || !ws->kept_list_b ||                         \
-        !ws->kept_a || !ws->kept_b || !ws->inside_a || !ws->inside_b || !ws->crossings || !ws->points) { \
-      poly_overlap_workspace_destroy##SUFFIX(ws);                                                       \
-      return -1;                                                                                        \
-    }                                                                                                   \
-    return 0;                                                                                           \
+/* One allocation per workspace, laid out by poly_overlap_workspace_layout (the
+ * GPU carves its per-thread workspaces the same way). */
+#define POLY_WORKSPACE_FUNCTIONS(SUFFIX)                                                               \
+  void poly_overlap_workspace_destroy##SUFFIX(poly_overlap_workspace##SUFFIX *ws)                     \
+  {                                                                                                   \
+    free(ws->vertices_a);                                                                             \
+    memset(ws, 0, sizeof *ws);                                                                        \
+  }                                                                                                   \
+  int poly_overlap_workspace_create##SUFFIX(poly_overlap_workspace##SUFFIX *ws, int max_vertices,     \
+                                            int max_triangles)                                        \
+  {                                                                                                   \
+    memset(ws, 0, sizeof *ws);                                                                        \
+    size_t bytes = poly_overlap_workspace_layout##SUFFIX(NULL, NULL, max_vertices, max_triangles);     \
+    void *memory = malloc(bytes);                                                                     \
+    if (!memory) return -1;                                                                           \
+    poly_overlap_workspace_layout##SUFFIX(ws, memory, max_vertices, max_triangles);                   \
+    return 0;                                                                                         \
   }
 
-POLY_WORKSPACE_FUNCTIONS(double, _d)
-POLY_WORKSPACE_FUNCTIONS(float, _f)
+POLY_WORKSPACE_FUNCTIONS(_d)
+POLY_WORKSPACE_FUNCTIONS(_f)
 
 /* B's body frame in A's: rotation R_A^T R_B, translation R_A^T (x_B - x_A),
  * with the position difference taken in double before anything else. */

@@ -95,7 +95,8 @@ poly_shape_view_d poly_shape_view_of(const poly_shape *shape);
 int poly_shape_view_make_f(const poly_shape *shape, poly_shape_view_f *view);
 void poly_shape_view_free_f(poly_shape_view_f *view);
 
-/* Workspace for shapes of at most these sizes; 0 on success. */
+/* Workspace for shapes of at most these sizes; 0 on success. (The memory
+ * layout is poly_overlap_workspace_layout in poly_overlap_impl.h.) */
 int poly_overlap_workspace_create_d(poly_overlap_workspace_d *ws, int max_vertices, int max_triangles);
 int poly_overlap_workspace_create_f(poly_overlap_workspace_f *ws, int max_vertices, int max_triangles);
 void poly_overlap_workspace_destroy_d(poly_overlap_workspace_d *ws);

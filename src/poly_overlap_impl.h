@@ -7,6 +7,7 @@
 #endif
 
 #include <math.h>
+#include <stddef.h>
 
 #include "poly_exact.h"
 
@@ -16,10 +17,11 @@ typedef POLY_REAL POLY_FN(real);
 /* Fixed generic direction of the symbolic perturbation of B (body frame of A).
  * Irrational-looking components so that no mesh normal or edge of practical
  * interest is orthogonal to it. */
-POLY_INLINE const R *POLY_FN(perturbation)(void)
+POLY_INLINE void POLY_FN(perturbation)(R *direction)
 {
-  static const R direction[3] = {(R)0.7431448254773942, (R)0.5219894423148289, (R)0.4186764212365043};
-  return direction;
+  direction[0] = (R)0.7431448254773942;
+  direction[1] = (R)0.5219894423148289;
+  direction[2] = (R)0.4186764212365043;
 }
 
 POLY_INLINE R POLY_FN(dot)(const R *a, const R *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -46,6 +48,46 @@ POLY_INLINE int POLY_FN(perturbed_sign)(R value, R first_order)
   if (value > 0) return 1;
   if (value < 0) return -1;
   return first_order > 0 ? 1 : -1;
+}
+
+/* Sizes the workspace for shapes of up to max_vertices / max_triangles in one
+ * block of memory: returns the bytes needed, and with `ws` and `memory` given
+ * points the workspace's arrays into that block. */
+POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) *ws, void *memory, int max_vertices,
+                                                     int max_triangles)
+{
+  size_t nv = (size_t)(max_vertices > 0 ? max_vertices : 1);
+  size_t nt = (size_t)(max_triangles > 0 ? max_triangles : 1);
+  /* Nodes: vertices inside plus edge crossings; a few per triangle covers any
+   * realistic overlap, and more are found again rather than lost. */
+  size_t np = 2 * nv + 4 * nt + 64;
+  size_t reals = 3 * nv + 3 * nv + 4 * nt + 4 * nt + 3 * nt + 6 * nt + 6 * nt + 2 * nt + 3 * np;
+  size_t ints = 2 * nt;
+  size_t bytes = sizeof(R) * reals + sizeof(int) * ints + 2 * nt + 2 * nv;
+  if (!ws || !memory) return bytes;
+  R *r = (R *)memory;
+  ws->vertices_a = r; r += 3 * nv;
+  ws->vertices_b = r; r += 3 * nv;
+  ws->planes_a = r; r += 4 * nt;
+  ws->planes_b = r; r += 4 * nt;
+  ws->normals_b = r; r += 3 * nt;
+  ws->bounds_a = r; r += 6 * nt;
+  ws->bounds_b = r; r += 6 * nt;
+  ws->crossings = r; r += 2 * nt; /* parameters, then directions */
+  ws->points = r; r += 3 * np;
+  int *n = (int *)r;
+  ws->kept_list_a = n; n += nt;
+  ws->kept_list_b = n; n += nt;
+  unsigned char *c = (unsigned char *)n;
+  ws->kept_a = c; c += nt;
+  ws->kept_b = c; c += nt;
+  ws->inside_a = c; c += nv;
+  ws->inside_b = c;
+  ws->capacity_vertices = (int)nv;
+  ws->capacity_triangles = (int)nt;
+  ws->capacity_points = (int)np;
+  ws->use_filter = 1;
+  return bytes;
 }
 
 /* Unit roundoff of the scalar type: bounds the error of the fast predicates. */
@@ -110,7 +152,9 @@ POLY_INLINE int POLY_FN(side_sign)(R side, int point_in_b, const R *vertices, co
   POLY_FN(to_double)(vertices + 3 * tri[0], c0);
   POLY_FN(to_double)(vertices + 3 * tri[1], c1);
   POLY_FN(to_double)(vertices + 3 * tri[2], c2);
-  POLY_FN(to_double)(POLY_FN(perturbation)(), ud);
+  R u[3];
+  POLY_FN(perturbation)(u);
+  POLY_FN(to_double)(u, ud);
   const double *high[3] = {c1, c2, ud}, *low[3] = {c0, c0, 0};
   return POLY_FN(perturbed_sign)(0, (R)((point_in_b ? 1 : -1) * poly_det_sign_exact(high, low)));
 }
@@ -126,7 +170,8 @@ POLY_INLINE int POLY_FN(side_sign)(R side, int point_in_b, const R *vertices, co
 POLY_INLINE int POLY_FN(segment_crosses_triangle)(const R *p0, const R *p1, int segment_in_b, const R *vertices,
                                                    const int *tri, const R *plane, R *lambda)
 {
-  const R *u = POLY_FN(perturbation)();
+  R u[3];
+  POLY_FN(perturbation)(u);
   R side0 = POLY_FN(plane_side)(p0, vertices, tri, plane);
   R side1 = POLY_FN(plane_side)(p1, vertices, tri, plane);
   int sign0 = POLY_FN(side_sign)(side0, segment_in_b, vertices, tri, plane);
