@@ -18,19 +18,30 @@ ifeq ($(CUDA),auto)
 else
   CUDA_ENABLED := $(CUDA)
 endif
+ifeq ($(CUDA_ENABLED),on)
+  CUDA_HOME := $(patsubst %/bin/,%,$(dir $(NVCC)))
+  CUDA_OBJECTS := $(BUILD)/obj/poly_gpu.o
+  GPU_TEST := $(BUILD)/tests/gpu_agreement
+  # cudart linked statically: the library runs (and reports "no GPU") on hosts without CUDA.
+  CUDA_LIBS := $(CUDA_HOME)/lib64/libcudart_static.a -ldl -lrt -lpthread
+  CUDA_DEFINE := -DPOLY_HAVE_CUDA
+endif
 ifeq ($(PRECISION),single)
   PRECISION_DEFINE := -DPOLY_SINGLE_PRECISION
 endif
 
-DEFINES := $(MPI_DEFINES) $(PRECISION_DEFINE)
+DEFINES := $(MPI_DEFINES) $(PRECISION_DEFINE) $(CUDA_DEFINE)
 CFLAGS := -std=c11 $(OPT) -fPIC -Wall -Wextra $(DEFINES) $(CFLAGS_EXTRA)
-CXXFLAGS := -std=c++11 $(OPT) -fPIC -Wall $(DEFINES) -I$(LIGGGHTS_INCLUDE) -Isrc $(CXXFLAGS_EXTRA)
+CXXFLAGS := -std=c++11 $(OPT) -fPIC -Wall $(DEFINES) -I$(LIGGGHTS_INCLUDE) -Isrc -Igpu $(CXXFLAGS_EXTRA)
+NVCCFLAGS := -std=c++14 -O3 -arch=$(CUDA_ARCH) -Xcompiler -fPIC -Isrc -Igpu
 
 .PHONY: all install test example clean info
-all: $(LIBRARY) $(LAUNCHER)
+all: $(LIBRARY) $(LAUNCHER) $(GPU_TEST)
 
 info:
 	@echo "CUDA=$(CUDA_ENABLED) NVCC=$(NVCC) CUDA_ARCH=$(CUDA_ARCH) PRECISION=$(PRECISION) PREFIX=$(PREFIX)"
+
+# The CUDA object is rebuilt when CUDA settings change only through `make clean`.
 
 $(BUILD)/obj/%.o: src/%.c $(wildcard src/*.h) Makefile Makefile.package
 	@mkdir -p $(dir $@)
@@ -40,9 +51,18 @@ $(BUILD)/obj/%.o: src/%.cpp $(wildcard src/*.h) Makefile Makefile.package
 	@mkdir -p $(dir $@)
 	$(MPICXX) $(CXXFLAGS) -c $< -o $@
 
-$(LIBRARY): $(OBJECTS)
+$(BUILD)/obj/poly_gpu.o: gpu/poly_gpu.cu gpu/poly_gpu.h $(wildcard src/poly_*.h) Makefile Makefile.package
 	@mkdir -p $(dir $@)
-	$(MPICXX) -shared -o $@ $(OBJECTS) $(LIGGGHTS_LIBS) -ldl -lm
+	$(NVCC) $(NVCCFLAGS) -c $< -o $@
+
+# GPU vs CPU agreement, pair by pair (tests/test_gpu.py runs it where there is a GPU).
+$(BUILD)/tests/gpu_agreement: tests/unit/gpu_agreement.cpp $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,$(OBJECTS))
+	@mkdir -p $(dir $@)
+	$(CXX) -std=c++11 $(OPT) -Isrc -Igpu $< $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,$(OBJECTS)) $(CUDA_LIBS) -lm -o $@
+
+$(LIBRARY): $(OBJECTS) $(CUDA_OBJECTS)
+	@mkdir -p $(dir $@)
+	$(MPICXX) -shared -o $@ $(OBJECTS) $(CUDA_OBJECTS) $(LIGGGHTS_LIBS) $(CUDA_LIBS) -ldl -lm
 
 # libpolyhedral must precede libliggghts in the link so its definitions of the
 # hooked LIGGGHTS methods win symbol lookup (see src/polyhedral_register.cpp).

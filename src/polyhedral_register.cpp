@@ -55,6 +55,7 @@
 #include "fix_nve_polyhedron.h"
 #include "fix_particletemplate_polyhedron.h"
 #include "pair_polyhedral_volumetric.h"
+#include "pair_polyhedral_volumetric_gpu.h"
 
 using namespace LAMMPS_NS;
 
@@ -113,6 +114,7 @@ void register_styles(LAMMPS *lmp)
   std::map<std::string, CommandCreator> &commands = *(lmp->input->*exposed(CommandMapTag()));
 
   (*lmp->force->pair_map)["polyhedral/volumetric"] = &create_pair<PairPolyhedralVolumetric>;
+  (*lmp->force->pair_map)["polyhedral/volumetric/gpu"] = &create_pair<PairPolyhedralVolumetricGPU>;
   fixes["particletemplate/polyhedron"] = &create_fix<FixParticletemplatePolyhedron>;
   fixes[FixContactHistoryPolyhedral::creation_style()] = &create_fix<FixContactHistoryPolyhedral>;
   fixes["nve/polyhedron"] = &create_fix<FixNVEPolyhedron>;
@@ -142,6 +144,9 @@ void LAMMPS::post_create()
   static PostCreateFn original_post_create = (PostCreateFn) original(kPostCreateSymbol);
   silence_error_jokes(this);
   register_styles(this);
+  // With `-suffix gpu` the original issues `package gpu ...`, a package this
+  // LIGGGHTS lacks; our /gpu styles need no package command.
+  if (suffix && suffix_enable && strcmp(suffix, "gpu") == 0) return;
   original_post_create(this);
 }
 

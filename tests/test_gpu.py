@@ -1,0 +1,131 @@
+"""pair_style polyhedral/volumetric/gpu.
+
+Without a GPU (CI) the CUDA sources must still compile and link, the style must
+stop with a clear ERROR, and every test that needs a GPU reports "skipped: no
+GPU" (skips do not count as passed). On a GPU host the same command runs them:
+see doc/gpu.md for running there from a bundle."""
+import os
+import shutil
+import subprocess
+
+import pytest
+
+import decks
+from conftest import MPI_ENV, ROOT
+from test_pair_parallel import MATERIALS, particles, templates
+
+
+def cuda_built():
+    """After the launcher fixture has built: was the CUDA part built (nvcc found)?"""
+    return (ROOT / "build" / "obj" / "poly_gpu.o").exists()
+
+
+def gpu_available():
+    smi = shutil.which("nvidia-smi")
+    if not smi:
+        return False
+    listing = subprocess.run([smi, "-L"], capture_output=True, text=True)
+    return listing.returncode == 0 and "GPU" in listing.stdout
+
+
+needs_gpu = pytest.mark.skipif(not gpu_available(), reason="skipped: no GPU")
+
+
+def test_cuda_sources_compile_and_link(launcher):
+    if not cuda_built():
+        pytest.skip("skipped: built without CUDA (no nvcc)")
+    library = ROOT / "build" / "lib" / "libpolyhedral.so"
+    symbols = subprocess.run(["nm", "-D", "--defined-only", str(library)], capture_output=True, text=True).stdout
+    for name in ("poly_gpu_init", "poly_gpu_compute", "poly_gpu_clear"):
+        assert name in symbols, name
+    assert (ROOT / "build" / "tests" / "gpu_agreement").exists()
+
+
+def small_deck(pair):
+    return (decks.header(boundary="f f f") + "neigh_modify delay 0\n" + MATERIALS.replace(" 5e6 5e6", " 5e6")
+            .replace(" 0.25 0.25", " 0.25").replace("peratomtypepair 2 0.5 0.5 0.5 0.5", "peratomtypepair 1 0.5") +
+            decks.template("cube", "cube.stl", scale=0.1) + pair + "pair_coeff * *\n"
+            "create_polyhedron cube 0.5 0.5 0.5\nfix integrate all nve/polyhedron\nrun 1\n")
+
+
+@pytest.mark.skipif(gpu_available(), reason="a GPU is present")
+def test_gpu_style_without_gpu_is_a_clear_error(run_deck):
+    result = run_deck(small_deck("pair_style polyhedral/volumetric/gpu\n"))
+    assert result.returncode != 0
+    expected = "no usable CUDA GPU" if cuda_built() else "no CUDA support"
+    assert any(expected in line for line in result.error_lines()), result.output
+
+
+def test_suffix_gpu_selects_the_gpu_style(run_deck, tmp_path):
+    deck = small_deck("pair_style polyhedral/volumetric\n")
+    result = run_deck(deck, workdir=tmp_path / "suffix")
+    assert result.returncode == 0, result.output
+    (tmp_path / "suffix" / "in.deck").write_text(deck)
+    run = subprocess.run([str(ROOT / "build" / "bin" / "liggghts-poly"), "-in", "in.deck", "-suffix", "gpu",
+                          "-log", "none", "-var", "SHAPES", str(ROOT / "examples" / "shapes")], cwd=tmp_path / "suffix", capture_output=True, text=True,
+                         errors="backslashreplace", env=dict(os.environ, **MPI_ENV))
+    if gpu_available():
+        assert run.returncode == 0, run.stdout + run.stderr
+    else:
+        assert run.returncode != 0
+        assert "polyhedral/volumetric/gpu" in run.stdout, run.stdout  # the /gpu style was chosen, and said why not
+
+
+@needs_gpu
+@pytest.mark.parametrize("precision", ["double", "single"])
+def test_gpu_and_cpu_agree_pair_by_pair(launcher, precision):
+    """10^4 random overlapping pairs of every reference shape: V, centroid, normal, depth, forces,
+    torques and history from the GPU against the host code; relative difference below 1e-10 in double
+    and 1e-4 in single (the driver exits non-zero above that)."""
+    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
+                          "10000", precision], capture_output=True, text=True)
+    print(run.stdout)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.strip().endswith("OK")
+
+
+def packing(pair):
+    return (decks.header(boundary="p p f", lo=0.0, hi=0.12, ntypes=2).replace(
+        "region box block 0.0 0.12 0.0 0.12 0.0 0.12", "region box block 0.0 0.12 0.0 0.12 -0.01 0.5") +
+        MATERIALS + templates() + pair + "pair_coeff * *\n" + particles() +
+        "group moving type 1\nfix integrate moving nve/polyhedron\nfix gravity moving gravity 9.81 vector 0 0 -1\n"
+        "compute contacts all pair/polyhedral/local\ncompute erot all erotate/polyhedron\n"
+        "thermo_style custom step atoms ke c_erot c_contacts\nthermo_modify format float %.15g\nthermo 400\n"
+        "timestep 2e-5\n")
+
+
+@needs_gpu
+def test_gpu_packing_matches_cpu(run_deck, tmp_path):
+    cpu = run_deck(packing("pair_style polyhedral/volumetric\n") + "run 4800\n", workdir=tmp_path / "cpu")
+    gpu = run_deck(packing("pair_style polyhedral/volumetric/gpu\n") + "run 4800\n", workdir=tmp_path / "gpu")
+    assert cpu.returncode == 0, cpu.output
+    assert gpu.returncode == 0, gpu.output
+    a = cpu.thermo("Step", "Atoms", "KinEng", "c_erot", "c_contacts")
+    b = gpu.thermo("Step", "Atoms", "KinEng", "c_erot", "c_contacts")
+    assert a["Step"] == b["Step"] and b["Atoms"][-1] == 200
+    assert max(a["c_contacts"]) >= 80
+    # Same double-precision code, but nvcc contracts other multiply-adds: round-off differences that
+    # colliding grains amplify, as between 1 and several MPI ranks (tests/test_pair_parallel.py).
+    assert a["c_contacts"] == b["c_contacts"], (a["c_contacts"], b["c_contacts"])
+    worst = max(abs(x - y) / max(abs(x), 1e-12) for column in ("KinEng", "c_erot") for x, y in zip(a[column], b[column]))
+    print(f"GPU vs CPU packing: largest relative energy difference {worst:.2e}")
+    assert worst <= 1e-6, worst
+
+
+@needs_gpu
+def test_gpu_history_survives_restart(run_deck, tmp_path):
+    pair = "pair_style polyhedral/volumetric/gpu\n"
+    unbroken = run_deck(packing(pair) + "run 2400\nrun 2400\n", workdir=tmp_path / "unbroken")
+    first = run_deck(packing(pair) + "run 2400\nwrite_restart half.restart\n", workdir=tmp_path / "first")
+    assert unbroken.returncode == 0 and first.returncode == 0, unbroken.output + first.output
+    resumed = ("atom_modify sort 0 0\nread_restart ../first/half.restart\nnewton off\ncommunicate single vel yes\n" +
+               MATERIALS + templates() + pair + "pair_coeff * *\n" +
+               packing(pair)[packing(pair).index("group moving"):] + "run 2400\n")
+    second = run_deck(resumed, workdir=tmp_path / "second")
+    assert second.returncode == 0, second.output
+    whole = unbroken.thermo("Step", "KinEng", "c_contacts")
+    tail = second.thermo("Step", "KinEng", "c_contacts")
+    start = len(whole["Step"]) - 1 - whole["Step"][::-1].index(2400.0)
+    assert tail["c_contacts"] == whole["c_contacts"][start:]
+    worst = max(abs(x - y) / abs(y) for x, y in zip(tail["KinEng"], whole["KinEng"][start:]))
+    assert worst <= 1e-8, worst

@@ -1,0 +1,190 @@
+/* GPU vs CPU agreement of the narrow phase, pair by pair: for each reference
+ * shape, `count` random overlapping pairs go through poly_gpu_compute and
+ * through poly_overlap_d/f + poly_contact_evaluate on the host; prints the
+ * worst relative difference of V, centroid, normal, depth, forces, torques
+ * and history. Usage: gpu_agreement SHAPES_DIR COUNT double|single */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <vector>
+
+#include "poly_gpu.h"
+#include "poly_overlap.h"
+
+static double uniform(unsigned long long *state)
+{
+  *state = *state * 6364136223846793005ULL + 1442695040888963407ULL;
+  return (double)(*state >> 11) / 9007199254740992.0;
+}
+
+static void random_quaternion(unsigned long long *state, double q[4])
+{
+  for (int k = 0; k < 4; k++) q[k] = 2.0 * uniform(state) - 1.0;
+  poly_quat_normalize(q);
+}
+
+int main(int argc, char **argv)
+{
+  if (argc != 4) return 2;
+  const char *names[] = {"schoenhardt.stl", "cube.stl", "tetrahedron.obj", "icosphere_80.off", "icosphere_320.off",
+                         "icosphere_1280.off", "rock_10.obj", "rock_40.obj", "rock_70.obj", "rock_1000.obj"};
+  const int num_shapes = 10;
+  int count = atoi(argv[2]);
+  int single = strcmp(argv[3], "single") == 0;
+  std::vector<poly_shape> shapes(num_shapes);
+  std::vector<const poly_shape *> pointers(num_shapes);
+  int max_vertices = 1, max_triangles = 1;
+  for (int s = 0; s < num_shapes; s++) {
+    char path[1024], message[512];
+    snprintf(path, sizeof path, "%s/%s", argv[1], names[s]);
+    if (poly_shape_load(path, 0.01, &shapes[s], message, sizeof message) != POLY_OK) {
+      printf("FAIL %s\n", message);
+      return 1;
+    }
+    pointers[s] = &shapes[s];
+    if (shapes[s].num_vertices > max_vertices) max_vertices = shapes[s].num_vertices;
+    if (shapes[s].num_triangles > max_triangles) max_triangles = shapes[s].num_triangles;
+  }
+  char message[512];
+  if (poly_gpu_init(0, num_shapes, &pointers[0], message, sizeof message) != 0) {
+    printf("FAIL %s\n", message);
+    return 1;
+  }
+  poly_material_pair material;
+  poly_material_pair_make(1e7, 0.25, 1e7, 0.25, poly_damping_beta_for_restitution(0.5), 0.5, &material);
+  poly_overlap_workspace_d ws_d;
+  poly_overlap_workspace_f ws_f;
+  poly_overlap_workspace_create_d(&ws_d, max_vertices, max_triangles);
+  poly_overlap_workspace_create_f(&ws_f, max_vertices, max_triangles);
+
+  int failures = 0;
+  double tolerance = single ? 1e-4 : 1e-10;
+  for (int s = 0; s < num_shapes; s++) {
+    unsigned long long state = 12345 + s;
+    std::vector<poly_gpu_pair> pairs(count);
+    std::vector<double> history(POLY_HISTORY_SIZE * count), host_history(POLY_HISTORY_SIZE * count);
+    for (int p = 0; p < count; p++) {
+      poly_gpu_pair &pair = pairs[p];
+      memset(&pair, 0, sizeof pair);
+      pair.shape_i = pair.shape_j = s;
+      double r = shapes[s].bounding_radius;
+      for (int k = 0; k < 3; k++) {
+        pair.position_i[k] = 10.0 * uniform(&state);
+        pair.velocity_i[k] = uniform(&state) - 0.5;
+        pair.velocity_j[k] = uniform(&state) - 0.5;
+        pair.omega_i[k] = 20.0 * (uniform(&state) - 0.5);
+        pair.omega_j[k] = 20.0 * (uniform(&state) - 0.5);
+      }
+      double direction[4];
+      random_quaternion(&state, direction);
+      double distance = r * (0.8 + 0.9 * uniform(&state));
+      for (int k = 0; k < 3; k++) pair.position_j[k] = pair.position_i[k] + distance * direction[k + 1];
+      random_quaternion(&state, pair.quaternion_i);
+      random_quaternion(&state, pair.quaternion_j);
+      pair.mass_i = pair.mass_j = 2500.0 * shapes[s].volume;
+      pair.negligible_volume = 1e-12 * shapes[s].volume;
+      for (int d = 0; d < 3; d++) history[POLY_HISTORY_SIZE * p + d] = 1e-3 * (uniform(&state) - 0.5);
+      history[POLY_HISTORY_SIZE * p + 3] = 1e4;
+      history[POLY_HISTORY_SIZE * p + 4] = 1.0;
+    }
+    host_history = history;
+    std::vector<poly_gpu_result> results(count);
+    // A first call without advancing history warms up (allocations); the second is timed and checked.
+    std::vector<double> warm_history = history;
+    struct timespec start, stop;
+    if (poly_gpu_compute(count, &pairs[0], &material, 1, single, 1, 1, 1e-6, 0, &warm_history[0], &results[0],
+                         message, sizeof message) != 0 ||
+        clock_gettime(CLOCK_MONOTONIC, &start) != 0 ||
+        poly_gpu_compute(count, &pairs[0], &material, 1, single, 1, 1, 1e-6, 1, &history[0], &results[0], message,
+                         sizeof message) != 0 ||
+        clock_gettime(CLOCK_MONOTONIC, &stop) != 0) {
+      printf("FAIL %s\n", message);
+      return 1;
+    }
+    double seconds = (stop.tv_sec - start.tv_sec) + 1e-9 * (stop.tv_nsec - start.tv_nsec);
+    poly_shape_view_d view_d = poly_shape_view_of(&shapes[s]);
+    poly_shape_view_f view_f;
+    poly_shape_view_make_f(&shapes[s], &view_f);
+    double worst = 0.0;
+    const char *worst_what = "-";
+    int contacts = 0;
+    for (int p = 0; p < count; p++) {
+      const poly_gpu_pair &pair = pairs[p];
+      poly_pose pose_i, pose_j;
+      memcpy(pose_i.position, pair.position_i, sizeof pose_i.position);
+      memcpy(pose_i.quaternion, pair.quaternion_i, sizeof pose_i.quaternion);
+      memcpy(pose_j.position, pair.position_j, sizeof pose_j.position);
+      memcpy(pose_j.quaternion, pair.quaternion_j, sizeof pose_j.quaternion);
+      poly_overlap_result g;
+      if (single) poly_overlap_f(&view_f, &pose_i, &view_f, &pose_j, &ws_f, &g);
+      else poly_overlap_d(&view_d, &pose_i, &view_d, &pose_j, &ws_d, &g);
+      int contact = g.volume > pair.negligible_volume && g.depth > 0.0;
+      if (contact != results[p].contact) {
+        printf("FAIL shape %s pair %d: contact %d on the host, %d on the GPU\n", names[s], p, contact,
+               results[p].contact);
+        failures++;
+        continue;
+      }
+      if (!contact) continue;
+      contacts++;
+      poly_contact_input in;
+      in.volume = g.volume;
+      in.depth = g.depth;
+      for (int k = 0; k < 3; k++) {
+        in.normal[k] = g.normal[k];
+        in.centroid[k] = g.centroid[k];
+        in.position_i[k] = pair.position_i[k];
+        in.position_j[k] = pair.position_j[k];
+        in.velocity_i[k] = pair.velocity_i[k];
+        in.velocity_j[k] = pair.velocity_j[k];
+        in.omega_i[k] = pair.omega_i[k];
+        in.omega_j[k] = pair.omega_j[k];
+      }
+      in.mass_i = pair.mass_i;
+      in.mass_j = pair.mass_j;
+      in.dt = 1e-6;
+      poly_contact_output out;
+      poly_contact_evaluate(&in, &material, 1, 1, &host_history[POLY_HISTORY_SIZE * p], &out);
+      const poly_gpu_result &r = results[p];
+      double size = shapes[s].bounding_radius;
+      double force_scale = fabs(out.normal_force) + 1e-300;
+      struct { const char *what; double host, gpu, scale; } checks[] = {
+          {"volume", g.volume, r.volume, g.volume}, {"depth", g.depth, r.depth, g.depth},
+          {"centroid x", g.centroid[0], r.centroid[0], size}, {"centroid y", g.centroid[1], r.centroid[1], size},
+          {"centroid z", g.centroid[2], r.centroid[2], size}, {"normal x", g.normal[0], r.normal[0], 1.0},
+          {"normal y", g.normal[1], r.normal[1], 1.0}, {"normal z", g.normal[2], r.normal[2], 1.0},
+          {"force x", out.force_j[0], r.force_j[0], force_scale}, {"force y", out.force_j[1], r.force_j[1], force_scale},
+          {"force z", out.force_j[2], r.force_j[2], force_scale},
+          {"torque i x", out.torque_i[0], r.torque_i[0], force_scale * size},
+          {"torque i y", out.torque_i[1], r.torque_i[1], force_scale * size},
+          {"torque i z", out.torque_i[2], r.torque_i[2], force_scale * size},
+          {"torque j x", out.torque_j[0], r.torque_j[0], force_scale * size},
+          {"torque j y", out.torque_j[1], r.torque_j[1], force_scale * size},
+          {"torque j z", out.torque_j[2], r.torque_j[2], force_scale * size},
+          {"history x", host_history[POLY_HISTORY_SIZE * p], history[POLY_HISTORY_SIZE * p], force_scale},
+      };
+      for (size_t c = 0; c < sizeof checks / sizeof checks[0]; c++) {
+        double difference = fabs(checks[c].host - checks[c].gpu) / checks[c].scale;
+        if (difference > worst) {
+          worst = difference;
+          worst_what = checks[c].what;
+        }
+      }
+    }
+    printf("%-20s %s: %5d pairs, %5d contacts, worst relative difference %.2e (%s); GPU call %.3f ms, "
+           "%.3g pairs/s including transfers\n", names[s], single ? "single" : "double", count, contacts, worst,
+           worst_what, 1e3 * seconds, count / seconds);
+    if (worst > tolerance) failures++;
+    if (contacts < count / 4) {
+      printf("FAIL too few contacts\n");
+      failures++;
+    }
+    poly_shape_view_free_f(&view_f);
+  }
+  poly_gpu_clear();
+  printf(failures ? "FAIL\n" : "OK\n");
+  return failures ? 1 : 0;
+}
