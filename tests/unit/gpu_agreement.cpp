@@ -7,7 +7,8 @@
  * Scales: V and depth relative to themselves for overlaps above 1e-3 of the
  * particle volume (below that, relative to 1e-3 V_p: a grazing overlap's own
  * size is not a meaningful scale, its absolute error is); centroid relative to
- * the particle size; normal, forces and torques for overlaps above 1e-3 V_p.
+ * the particle size; centroid, normal, forces and torques for overlaps above
+ * 1e-3 V_p (the centroid of a grazing overlap is a ratio of two tiny sums).
  * A contact found by one side only is an error unless its volume is below the
  * precision floor (1e-6 V_p in single, 1e-12 V_p in double): the contact
  * threshold of 1e-12 V_p is then decided by round-off. */
@@ -119,6 +120,8 @@ int main(int argc, char **argv)
     double worst = 0.0;
     const char *worst_what = "-";
     int contacts = 0;
+    struct timespec host_start, host_stop;
+    clock_gettime(CLOCK_MONOTONIC, &host_start);
     for (int p = 0; p < count; p++) {
       const poly_gpu_pair &pair = pairs[p];
       poly_pose pose_i, pose_j;
@@ -165,8 +168,9 @@ int main(int argc, char **argv)
       double force_scale = fabs(out.normal_force) + 1e-300;
       struct { const char *what; double host, gpu, scale; int check; } checks[] = {
           {"volume", g.volume, r.volume, volume_scale, 1}, {"depth", g.depth, r.depth, g.depth, substantial},
-          {"centroid x", g.centroid[0], r.centroid[0], size, 1}, {"centroid y", g.centroid[1], r.centroid[1], size, 1},
-          {"centroid z", g.centroid[2], r.centroid[2], size, 1}, {"normal x", g.normal[0], r.normal[0], 1.0, substantial},
+          {"centroid x", g.centroid[0], r.centroid[0], size, substantial},
+          {"centroid y", g.centroid[1], r.centroid[1], size, substantial},
+          {"centroid z", g.centroid[2], r.centroid[2], size, substantial}, {"normal x", g.normal[0], r.normal[0], 1.0, substantial},
           {"normal y", g.normal[1], r.normal[1], 1.0, substantial}, {"normal z", g.normal[2], r.normal[2], 1.0, substantial},
           {"force x", out.force_j[0], r.force_j[0], force_scale, substantial}, {"force y", out.force_j[1], r.force_j[1], force_scale, substantial},
           {"force z", out.force_j[2], r.force_j[2], force_scale, substantial},
@@ -187,9 +191,11 @@ int main(int argc, char **argv)
         }
       }
     }
-    printf("%-20s %s: %5d pairs, %5d contacts, worst relative difference %.2e (%s); GPU call %.3f ms, "
-           "%.3g pairs/s including transfers\n", names[s], single ? "single" : "double", count, contacts, worst,
-           worst_what, 1e3 * seconds, count / seconds);
+    clock_gettime(CLOCK_MONOTONIC, &host_stop);
+    double host_seconds = (host_stop.tv_sec - host_start.tv_sec) + 1e-9 * (host_stop.tv_nsec - host_start.tv_nsec);
+    printf("%-20s %s: %5d pairs, %5d contacts, worst relative difference %.2e (%s); GPU %.3g pairs/s "
+           "(transfers included), one CPU core %.3g pairs/s (same code, checks included)\n", names[s],
+           single ? "single" : "double", count, contacts, worst, worst_what, count / seconds, count / host_seconds);
     if (worst > tolerance) failures++;
     if (contacts < count / 4) {
       printf("FAIL too few contacts\n");
