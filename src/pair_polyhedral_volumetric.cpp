@@ -346,10 +346,9 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
   const bool advance_history = !update->setupflag;
   if (recording) records.clear();
 
-  double **x = atom->x, **v = atom->v, **f = atom->f, **omega = atom->omega, **torque = atom->torque;
+  double **x = atom->x, **v = atom->v, **omega = atom->omega;
   double *radius = atom->radius, *rmass = atom->rmass;
-  int *type = atom->type, *tag = atom->tag;
-  const int nlocal = atom->nlocal, newton_pair = force->newton_pair;
+  int *type = atom->type;
   const int num_shapes = (int) views_d.size();
 
   int inum = list->inum, *ilist = list->ilist, *numneigh = list->numneigh, **firstneigh = list->firstneigh;
@@ -412,34 +411,45 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
       poly_contact_output out;
       poly_contact_evaluate(&input, &material(type[i], type[j]), tangential_history, damping, state, &out);
 
-      for (int k = 0; k < 3; k++) {
-        f[i][k] -= out.force_j[k];
-        torque[i][k] += out.torque_i[k];
-      }
-      if (newton_pair || j < nlocal)
-        for (int k = 0; k < 3; k++) {
-          f[j][k] += out.force_j[k];
-          torque[j][k] += out.torque_j[k];
-        }
-      if (evflag)
-        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, -out.force_j[0], -out.force_j[1], -out.force_j[2], -dx,
-                     -dy, -dz);
-      // With newton off a pair with a ghost is computed on both ranks; one records it.
-      if (recording && (j < nlocal || tag[i] < tag[j])) {
-        PolyContactRecord record;
-        record.id_i = tag[i];
-        record.id_j = tag[j];
-        record.volume = geometry.volume;
-        record.depth = geometry.depth;
-        for (int k = 0; k < 3; k++) {
-          record.normal[k] = geometry.normal[k];
-          record.contact_point[k] = geometry.centroid[k];
-          record.normal_force[k] = out.normal_force * geometry.normal[k];
-          record.tangential_force[k] = out.tangential_force[k];
-        }
-        records.push_back(record);
-      }
+      apply_contact(i, j, geometry.volume, geometry.depth, geometry.normal, geometry.centroid, out);
     }
+  }
+}
+
+// Forces and torques on i (and on j when it is owned here or newton is on),
+// virial, and the record for compute pair/polyhedral/local.
+void PairPolyhedralVolumetric::apply_contact(int i, int j, double volume, double depth, const double *normal,
+                                             const double *centroid, const poly_contact_output &out)
+{
+  double **x = atom->x, **f = atom->f, **torque = atom->torque;
+  int *tag = atom->tag;
+  const int nlocal = atom->nlocal, newton_pair = force->newton_pair;
+  for (int k = 0; k < 3; k++) {
+    f[i][k] -= out.force_j[k];
+    torque[i][k] += out.torque_i[k];
+  }
+  if (newton_pair || j < nlocal)
+    for (int k = 0; k < 3; k++) {
+      f[j][k] += out.force_j[k];
+      torque[j][k] += out.torque_j[k];
+    }
+  if (evflag)
+    ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, -out.force_j[0], -out.force_j[1], -out.force_j[2],
+                 x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]);
+  // With newton off a pair with a ghost is computed on both ranks; one records it.
+  if (recording && (j < nlocal || tag[i] < tag[j])) {
+    PolyContactRecord record;
+    record.id_i = tag[i];
+    record.id_j = tag[j];
+    record.volume = volume;
+    record.depth = depth;
+    for (int k = 0; k < 3; k++) {
+      record.normal[k] = normal[k];
+      record.contact_point[k] = centroid[k];
+      record.normal_force[k] = out.normal_force * normal[k];
+      record.tangential_force[k] = out.tangential_force[k];
+    }
+    records.push_back(record);
   }
 }
 

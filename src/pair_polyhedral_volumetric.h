@@ -67,6 +67,8 @@ class PairPolyhedralVolumetric : public Pair {
   void ensure_history_fix();
   void check_timestep();
   void overlap(int i, int j, poly_overlap_result *result);
+  void apply_contact(int i, int j, double volume, double depth, const double *normal, const double *centroid,
+                     const poly_contact_output &out);
   const poly_material_pair &material(int itype, int jtype) const
   {
     return materials[itype * (atom_ntypes + 1) + jtype];

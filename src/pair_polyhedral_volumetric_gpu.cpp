@@ -71,11 +71,11 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
   const bool advance_history = !update->setupflag;
   if (recording) records.clear();
 
-  double **x = atom->x, **v = atom->v, **f = atom->f, **omega = atom->omega, **torque = atom->torque;
+  double **x = atom->x, **v = atom->v, **omega = atom->omega;
   double **quaternion = atom->quaternion;
   double *radius = atom->radius, *rmass = atom->rmass, *density = atom->density;
-  int *type = atom->type, *tag = atom->tag, *shapetype = atom->shapetype;
-  const int nlocal = atom->nlocal, newton_pair = force->newton_pair, ntypes = atom->ntypes;
+  int *type = atom->type, *shapetype = atom->shapetype;
+  const int ntypes = atom->ntypes;
 
   int inum = list->inum, *ilist = list->ilist, *numneigh = list->numneigh, **firstneigh = list->firstneigh;
   int **first_touch = listgranhistory ? listgranhistory->firstneigh : NULL;
@@ -148,32 +148,16 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) first_history[i][POLY_HISTORY_SIZE * jj + d] = history[POLY_HISTORY_SIZE * p + d];
     }
     if (!r.contact) continue;
+    poly_contact_output out;
+    memset(&out, 0, sizeof out);
     for (int k = 0; k < 3; k++) {
-      f[i][k] -= r.force_j[k];
-      torque[i][k] += r.torque_i[k];
+      out.force_j[k] = r.force_j[k];
+      out.torque_i[k] = r.torque_i[k];
+      out.torque_j[k] = r.torque_j[k];
+      out.tangential_force[k] = r.tangential_force[k];
     }
-    if (newton_pair || j < nlocal)
-      for (int k = 0; k < 3; k++) {
-        f[j][k] += r.force_j[k];
-        torque[j][k] += r.torque_j[k];
-      }
-    if (evflag)
-      ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, -r.force_j[0], -r.force_j[1], -r.force_j[2],
-                   x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]);
-    if (recording && (j < nlocal || tag[i] < tag[j])) {
-      PolyContactRecord record;
-      record.id_i = tag[i];
-      record.id_j = tag[j];
-      record.volume = r.volume;
-      record.depth = r.depth;
-      for (int k = 0; k < 3; k++) {
-        record.normal[k] = r.normal[k];
-        record.contact_point[k] = r.centroid[k];
-        record.normal_force[k] = r.normal_force * r.normal[k];
-        record.tangential_force[k] = r.tangential_force[k];
-      }
-      records.push_back(record);
-    }
+    out.normal_force = r.normal_force;
+    apply_contact(i, j, r.volume, r.depth, r.normal, r.centroid, out);
   }
 #else
   (void) eflag;
