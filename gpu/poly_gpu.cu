@@ -73,33 +73,21 @@ template <typename T> bool ensure(T **device, size_t *capacity, size_t count, ch
   return true;
 }
 
-__device__ poly_shape_view_d view_d(const DeviceShapes &s, int shape)
+// A view of shape `shape` in the flat device arrays, with vertices and normals
+// of the view's scalar type.
+template <typename View, typename Real>
+__device__ View shape_view(const DeviceShapes &s, int shape, const Real *vertices, const Real *normals)
 {
-  poly_shape_view_d v;
+  View v;
   v.num_vertices = s.counts[3 * shape];
   v.num_triangles = s.counts[3 * shape + 1];
   v.num_edges = s.counts[3 * shape + 2];
-  v.vertices = s.vertices_d + 3 * s.offsets[3 * shape];
-  v.face_normals = s.normals_d + 3 * s.offsets[3 * shape + 1];
+  v.vertices = vertices + 3 * s.offsets[3 * shape];
+  v.face_normals = normals + 3 * s.offsets[3 * shape + 1];
   v.triangles = s.triangles + 3 * s.offsets[3 * shape + 1];
   v.edges = s.edges + 2 * s.offsets[3 * shape + 2];
   v.edge_triangles = s.edge_triangles + 2 * s.offsets[3 * shape + 2];
-  v.bounding_radius = s.radius[shape];
-  return v;
-}
-
-__device__ poly_shape_view_f view_f(const DeviceShapes &s, int shape)
-{
-  poly_shape_view_f v;
-  v.num_vertices = s.counts[3 * shape];
-  v.num_triangles = s.counts[3 * shape + 1];
-  v.num_edges = s.counts[3 * shape + 2];
-  v.vertices = s.vertices_f + 3 * s.offsets[3 * shape];
-  v.face_normals = s.normals_f + 3 * s.offsets[3 * shape + 1];
-  v.triangles = s.triangles + 3 * s.offsets[3 * shape + 1];
-  v.edges = s.edges + 2 * s.offsets[3 * shape + 2];
-  v.edge_triangles = s.edge_triangles + 2 * s.offsets[3 * shape + 2];
-  v.bounding_radius = (float)s.radius[shape];
+  v.bounding_radius = (Real)s.radius[shape];
   return v;
 }
 
@@ -132,12 +120,14 @@ __global__ void contact_kernel(DeviceShapes shapes, const poly_gpu_pair *pairs, 
   if (single_precision) {
     poly_overlap_workspace_f ws;
     poly_overlap_workspace_layout_f(&ws, memory, shapes.max_vertices, shapes.max_triangles);
-    poly_shape_view_f a = view_f(shapes, pair.shape_i), b = view_f(shapes, pair.shape_j);
+    poly_shape_view_f a = shape_view<poly_shape_view_f>(shapes, pair.shape_i, shapes.vertices_f, shapes.normals_f);
+    poly_shape_view_f b = shape_view<poly_shape_view_f>(shapes, pair.shape_j, shapes.vertices_f, shapes.normals_f);
     poly_overlap_local_f(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
   } else {
     poly_overlap_workspace_d ws;
     poly_overlap_workspace_layout_d(&ws, memory, shapes.max_vertices, shapes.max_triangles);
-    poly_shape_view_d a = view_d(shapes, pair.shape_i), b = view_d(shapes, pair.shape_j);
+    poly_shape_view_d a = shape_view<poly_shape_view_d>(shapes, pair.shape_i, shapes.vertices_d, shapes.normals_d);
+    poly_shape_view_d b = shape_view<poly_shape_view_d>(shapes, pair.shape_j, shapes.vertices_d, shapes.normals_d);
     poly_overlap_local_d(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
   }
   double *state_history = history + POLY_HISTORY_SIZE * p;
@@ -151,18 +141,9 @@ __global__ void contact_kernel(DeviceShapes shapes, const poly_gpu_pair *pairs, 
   input.depth = geometry.depth;
   poly_matrix_apply(rotation_i, local_centroid, input.centroid);
   poly_matrix_apply(rotation_i, local_normal, input.normal);
-  for (int k = 0; k < 3; k++) {
-    input.centroid[k] += pair.position_i[k];
-    input.position_i[k] = pair.position_i[k];
-    input.position_j[k] = pair.position_j[k];
-    input.velocity_i[k] = pair.velocity_i[k];
-    input.velocity_j[k] = pair.velocity_j[k];
-    input.omega_i[k] = pair.omega_i[k];
-    input.omega_j[k] = pair.omega_j[k];
-  }
-  input.mass_i = pair.mass_i;
-  input.mass_j = pair.mass_j;
-  input.dt = dt;
+  for (int k = 0; k < 3; k++) input.centroid[k] += pair.position_i[k];
+  poly_contact_input_set_bodies(&input, pair.position_i, pair.velocity_i, pair.omega_i, pair.mass_i, pair.position_j,
+                                pair.velocity_j, pair.omega_j, pair.mass_j, dt);
   double scratch_history[POLY_HISTORY_SIZE];
   double *law_history = state_history;
   if (!advance_history) {

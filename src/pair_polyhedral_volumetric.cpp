@@ -336,15 +336,20 @@ void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result
     poly_overlap_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, &workspace_d, result);
 }
 
-void PairPolyhedralVolumetric::compute(int eflag, int vflag)
+// Common start of compute() for the CPU and GPU styles; returns whether the
+// tangential springs may advance (not in the set-up force evaluation).
+bool PairPolyhedralVolumetric::begin_compute(int eflag, int vflag)
 {
   if (eflag || vflag) ev_setup(eflag, vflag);
   else evflag = vflag_fdotr = 0;
-
   computeflag = 1;
-  // The set-up force evaluation must not advance the tangential springs.
-  const bool advance_history = !update->setupflag;
   if (recording) records.clear();
+  return !update->setupflag;
+}
+
+void PairPolyhedralVolumetric::compute(int eflag, int vflag)
+{
+  const bool advance_history = begin_compute(eflag, vflag);
 
   double **x = atom->x, **v = atom->v, **omega = atom->omega;
   double *radius = atom->radius, *rmass = atom->rmass;
@@ -391,16 +396,9 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
       for (int k = 0; k < 3; k++) {
         input.normal[k] = geometry.normal[k];
         input.centroid[k] = geometry.centroid[k];
-        input.position_i[k] = x[i][k];
-        input.position_j[k] = x[j][k];
-        input.velocity_i[k] = v[i][k];
-        input.velocity_j[k] = v[j][k];
-        input.omega_i[k] = omega[i][k];
-        input.omega_j[k] = omega[j][k];
       }
-      input.mass_i = rmass[i];
-      input.mass_j = rmass[j];
-      input.dt = update->dt;
+      poly_contact_input_set_bodies(&input, x[i], v[i], omega[i], rmass[i], x[j], v[j], omega[j], rmass[j],
+                                    update->dt);
       double scratch[POLY_HISTORY_SIZE] = {0.0, 0.0, 0.0, 0.0, 0.0};
       double *state = scratch;
       if (history) {

@@ -66,6 +66,7 @@ class PairPolyhedralVolumetric : public Pair {
   void free_shape_views();
   void ensure_history_fix();
   void check_timestep();
+  bool begin_compute(int eflag, int vflag);
   void overlap(int i, int j, poly_overlap_result *result);
   void apply_contact(int i, int j, double volume, double depth, const double *normal, const double *centroid,
                      const poly_contact_output &out);

@@ -65,11 +65,7 @@ void PairPolyhedralVolumetricGPU::init_style()
 void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
 {
 #ifdef POLY_HAVE_CUDA
-  if (eflag || vflag) ev_setup(eflag, vflag);
-  else evflag = vflag_fdotr = 0;
-  computeflag = 1;
-  const bool advance_history = !update->setupflag;
-  if (recording) records.clear();
+  const bool advance_history = begin_compute(eflag, vflag);
 
   double **x = atom->x, **v = atom->v, **omega = atom->omega;
   double **quaternion = atom->quaternion;

@@ -66,6 +66,26 @@ typedef struct poly_contact_output {
   double normal_stiffness, tangential_stiffness;
 } poly_contact_output;
 
+/* The two bodies of a contact input: positions, velocities, angular
+ * velocities, masses (mass_j = 0: a wall) and the time step. */
+POLY_INLINE void poly_contact_input_set_bodies(poly_contact_input *in, const double *position_i, const double *velocity_i,
+                                               const double *omega_i, double mass_i, const double *position_j,
+                                               const double *velocity_j, const double *omega_j, double mass_j,
+                                               double dt)
+{
+  for (int k = 0; k < 3; k++) {
+    in->position_i[k] = position_i[k];
+    in->position_j[k] = position_j[k];
+    in->velocity_i[k] = velocity_i[k];
+    in->velocity_j[k] = velocity_j[k];
+    in->omega_i[k] = omega_i[k];
+    in->omega_j[k] = omega_j[k];
+  }
+  in->mass_i = mass_i;
+  in->mass_j = mass_j;
+  in->dt = dt;
+}
+
 /* Restitution of a Hertz contact with damping 2 sqrt(5/6) beta sqrt(k_n m*) and
  * no attraction. In units of the impact speed and the Hertz length and time it
  * is X'' = -X^(3/2) - sqrt(5) beta X^(1/4) X' (force clamped at 0), X(0) = 0,

@@ -484,6 +484,24 @@ POLY_INLINE void POLY_FN(node_extent)(const POLY_FN(shape_view) *mine, const R *
   }
 }
 
+/* For a triangle that survives the filter: its plane for the predicates
+ * ((v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1), its box, and the body's box of
+ * kept triangles grown to hold it. */
+POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tri, R *plane, R *bounds, R *box_low,
+                                                R *box_high)
+{
+  R e1[3], e2[3];
+  POLY_FN(triangle_bounds)(vertices, tri, bounds, bounds + 3);
+  for (int k = 0; k < 3; k++) {
+    if (bounds[k] < box_low[k]) box_low[k] = bounds[k];
+    if (bounds[3 + k] > box_high[k]) box_high[k] = bounds[3 + k];
+  }
+  POLY_FN(sub)(vertices + 3 * tri[1], vertices + 3 * tri[0], e1);
+  POLY_FN(sub)(vertices + 3 * tri[2], vertices + 3 * tri[0], e2);
+  POLY_FN(cross)(e1, e2, plane);
+  plane[3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
+}
+
 /* The overlap in the local frame (body frame of A shifted to `origin`).
  * `rotation` (row-major) and `translation` take B's body frame to A's. */
 POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
@@ -563,18 +581,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     ws->kept_a[t] = high >= limit_a;
     if (!ws->kept_a[t]) continue;
     ws->kept_list_a[num_kept_a++] = t;
-    R low3[3], high3[3], e1[3], e2[3];
-    POLY_FN(triangle_bounds)(va, tri, low3, high3);
-    for (int k = 0; k < 3; k++) {
-      if (low3[k] < box_a_low[k]) box_a_low[k] = low3[k];
-      if (high3[k] > box_a_high[k]) box_a_high[k] = high3[k];
-      ws->bounds_a[6 * t + k] = low3[k];
-      ws->bounds_a[6 * t + 3 + k] = high3[k];
-    }
-    POLY_FN(sub)(va + 3 * tri[1], va + 3 * tri[0], e1);
-    POLY_FN(sub)(va + 3 * tri[2], va + 3 * tri[0], e2);
-    POLY_FN(cross)(e1, e2, ws->planes_a + 4 * t);
-    ws->planes_a[4 * t + 3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
+    POLY_FN(prepare_kept_triangle)(va, tri, ws->planes_a + 4 * t, ws->bounds_a + 6 * t, box_a_low, box_a_high);
   }
   for (int s = 0; s < b->num_triangles; s++) {
     const int *tri = b->triangles + 3 * s;
@@ -586,18 +593,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     ws->kept_b[s] = low <= limit_b;
     if (!ws->kept_b[s]) continue;
     ws->kept_list_b[num_kept_b++] = s;
-    R low3[3], high3[3], e1[3], e2[3];
-    POLY_FN(triangle_bounds)(vb, tri, low3, high3);
-    for (int k = 0; k < 3; k++) {
-      if (low3[k] < box_b_low[k]) box_b_low[k] = low3[k];
-      if (high3[k] > box_b_high[k]) box_b_high[k] = high3[k];
-      ws->bounds_b[6 * s + k] = low3[k];
-      ws->bounds_b[6 * s + 3 + k] = high3[k];
-    }
-    POLY_FN(sub)(vb + 3 * tri[1], vb + 3 * tri[0], e1);
-    POLY_FN(sub)(vb + 3 * tri[2], vb + 3 * tri[0], e2);
-    POLY_FN(cross)(e1, e2, ws->planes_b + 4 * s);
-    ws->planes_b[4 * s + 3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
+    POLY_FN(prepare_kept_triangle)(vb, tri, ws->planes_b + 4 * s, ws->bounds_b + 6 * s, box_b_low, box_b_high);
     const R *n = b->face_normals + 3 * s;
     for (int k = 0; k < 3; k++)
       ws->normals_b[3 * s + k] = (R)(rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2]);

@@ -148,16 +148,9 @@ int main(int argc, char **argv)
       for (int k = 0; k < 3; k++) {
         in.normal[k] = g.normal[k];
         in.centroid[k] = g.centroid[k];
-        in.position_i[k] = pair.position_i[k];
-        in.position_j[k] = pair.position_j[k];
-        in.velocity_i[k] = pair.velocity_i[k];
-        in.velocity_j[k] = pair.velocity_j[k];
-        in.omega_i[k] = pair.omega_i[k];
-        in.omega_j[k] = pair.omega_j[k];
       }
-      in.mass_i = pair.mass_i;
-      in.mass_j = pair.mass_j;
-      in.dt = 1e-6;
+      poly_contact_input_set_bodies(&in, pair.position_i, pair.velocity_i, pair.omega_i, pair.mass_i, pair.position_j,
+                                    pair.velocity_j, pair.omega_j, pair.mass_j, 1e-6);
       poly_contact_output out;
       poly_contact_evaluate(&in, &material, 1, 1, &host_history[POLY_HISTORY_SIZE * p], &out);
       const poly_gpu_result &r = results[p];
