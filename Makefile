@@ -13,17 +13,32 @@ OBJECTS := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(C_SOURCES)) \
 LIBRARY := $(BUILD)/lib/libpolyhedral.so
 LAUNCHER := $(BUILD)/bin/liggghts-poly
 
+# nvcc may be a wrapper script (as /usr/local/bin/nvcc is on some hosts), so the
+# toolkit root comes from nvcc itself, and the static runtime is searched for in
+# the layouts CUDA toolkits use.
+ifneq ($(NVCC),)
+  CUDA_ROOT ?= $(patsubst %/bin/..,%,$(shell $(NVCC) -dryrun -c -x cu /dev/null -o /dev/null 2>&1 | sed -n 's/^\#\$$ TOP=//p'))
+  CUDART_STATIC ?= $(firstword $(wildcard $(CUDA_ROOT)/lib64/libcudart_static.a \
+                     $(CUDA_ROOT)/lib/libcudart_static.a $(CUDA_ROOT)/targets/*/lib/libcudart_static.a))
+endif
 ifeq ($(CUDA),auto)
-  CUDA_ENABLED := $(if $(NVCC),on,off)
+  CUDA_ENABLED := $(if $(and $(NVCC),$(CUDART_STATIC)),on,off)
+  ifneq ($(NVCC),)
+    ifeq ($(CUDART_STATIC),)
+      $(info polyhedral: $(NVCC) found but no libcudart_static.a under '$(CUDA_ROOT)'; building without CUDA)
+    endif
+  endif
 else
   CUDA_ENABLED := $(CUDA)
 endif
 ifeq ($(CUDA_ENABLED),on)
-  CUDA_HOME := $(patsubst %/bin/,%,$(dir $(NVCC)))
+  ifeq ($(CUDART_STATIC),)
+    $(error CUDA=on but no nvcc or libcudart_static.a was found (NVCC='$(NVCC)', CUDA_ROOT='$(CUDA_ROOT)'); set NVCC= or CUDART_STATIC=, or build with CUDA=off)
+  endif
   CUDA_OBJECTS := $(BUILD)/obj/poly_gpu.o
   GPU_TEST := $(BUILD)/tests/gpu_agreement
   # cudart linked statically: the library runs (and reports "no GPU") on hosts without CUDA.
-  CUDA_LIBS := $(CUDA_HOME)/lib64/libcudart_static.a -ldl -lrt -lpthread
+  CUDA_LIBS := $(CUDART_STATIC) -ldl -lrt -lpthread
   CUDA_DEFINE := -DPOLY_HAVE_CUDA
 endif
 ifeq ($(PRECISION),single)
@@ -39,7 +54,7 @@ NVCCFLAGS := -std=c++14 -O3 -arch=$(CUDA_ARCH) -Xcompiler -fPIC -Isrc -Igpu
 all: $(LIBRARY) $(LAUNCHER) $(GPU_TEST)
 
 info:
-	@echo "CUDA=$(CUDA_ENABLED) NVCC=$(NVCC) CUDA_ARCH=$(CUDA_ARCH) PRECISION=$(PRECISION) PREFIX=$(PREFIX)"
+	@echo "CUDA=$(CUDA_ENABLED) NVCC=$(NVCC) CUDART_STATIC=$(CUDART_STATIC) CUDA_ARCH=$(CUDA_ARCH) PRECISION=$(PRECISION) PREFIX=$(PREFIX)"
 
 # The CUDA object is rebuilt when CUDA settings change only through `make clean`.
 
