@@ -1,10 +1,22 @@
-/* CUDA narrow phase: one thread per candidate pair, running the CPU code's
- * own overlap geometry and contact law. See poly_gpu.h. */
+/* CUDA narrow phase: the CPU code's own overlap geometry and contact law, one
+ * thread per touching pair. See poly_gpu.h for the call sequence.
+ *
+ * Each step: (1) a cheap kernel over all candidate pairs tests the bounding
+ * spheres, clears the pairs that do not touch and appends the others to a
+ * compact list (warp-aggregated atomics), so the expensive kernel runs on
+ * touching pairs only and its warps do not idle on far pairs; (2) the contact
+ * kernel evaluates overlap and contact law for the listed pairs, writing a
+ * per-pair force and torques (no atomics on particles, so the sums are
+ * deterministic); (3) a reduction kernel sums each particle's pair
+ * contributions in a fixed order through a CSR index built at set-up. */
 #include "poly_gpu.h"
 
 #include <cuda_runtime.h>
 #include <stdio.h>
 #include <string.h>
+
+#include <chrono>
+#include <vector>
 
 #include "poly_overlap.h"
 
@@ -20,13 +32,21 @@
 #undef POLY_REAL
 #undef POLY_FN
 
+#define POLY_REAL float
+#define POLY_ACCUM double
+#define POLY_FN(name) poly_##name##_m
+#include "poly_overlap_impl.h"
+#undef POLY_REAL
+#undef POLY_ACCUM
+#undef POLY_FN
+
 namespace {
 
 // Shapes packed in flat device arrays; per shape the offsets into them.
 struct DeviceShapes {
   int count;
   int max_vertices, max_triangles;
-  int *offsets;               // 5 per shape: vertex, triangle, edge offset; counts follow in `counts`
+  int *offsets;               // 3 per shape: vertex, triangle, edge offset
   int *counts;                // 3 per shape: vertices, triangles, edges
   double *radius;
   double *vertices_d, *normals_d;
@@ -34,19 +54,49 @@ struct DeviceShapes {
   int *triangles, *edges, *edge_triangles;
 };
 
+// Per pair: what the contact kernel leaves for the reduction.
+struct PairForce {
+  double force_j[3], torque_i[3], torque_j[3];
+};
+
+template <typename T> struct DeviceArray {
+  T *data;
+  size_t capacity;
+};
+
+template <typename T> struct PinnedArray {
+  T *data;
+  size_t capacity;
+};
+
 struct State {
   bool ready;
   DeviceShapes shapes;
-  void *scratch;              // per-thread overlap workspaces
-  size_t scratch_bytes;
-  poly_gpu_pair *pairs;
-  poly_gpu_result *results;
-  double *history;
-  poly_material_pair *materials;
-  size_t pair_capacity, result_capacity, history_capacity, material_capacity;
+  int num_particles, num_force_particles, num_pairs, num_types;
+  DeviceArray<poly_gpu_particle> particles;
+  DeviceArray<poly_gpu_motion> motion;
+  DeviceArray<int> pair_i, pair_j;
+  DeviceArray<double> history;
+  DeviceArray<int> contact;
+  DeviceArray<int> touching;        // compact list of pairs whose bounding spheres overlap
+  DeviceArray<int> counters;        // [0] touching pairs, [1] contacts
+  DeviceArray<PairForce> pair_force;
+  DeviceArray<poly_gpu_result> results;
+  DeviceArray<int> csr_offsets, csr_entries;  // per force particle: 2 * pair + (0: as i, 1: as j)
+  DeviceArray<double> force_torque;
+  DeviceArray<poly_material_pair> materials;
+  DeviceArray<char> scratch;        // per-thread overlap workspaces
+  PinnedArray<poly_gpu_motion> host_motion;
+  PinnedArray<double> host_force_torque;
+  poly_gpu_timing timing;
 };
 
 State state = {};
+
+double now()
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 bool check(cudaError_t status, const char *what, char *message, size_t size)
 {
@@ -55,23 +105,52 @@ bool check(cudaError_t status, const char *what, char *message, size_t size)
   return false;
 }
 
-template <typename T> bool upload(T **device, const T *host, size_t count, char *message, size_t size)
+template <typename T> bool ensure(DeviceArray<T> &a, size_t count, char *message, size_t size)
 {
-  if (!check(cudaMalloc((void **)device, sizeof(T) * (count ? count : 1)), "cudaMalloc", message, size)) return false;
-  if (count == 0) return true;
-  return check(cudaMemcpy(*device, host, sizeof(T) * count, cudaMemcpyHostToDevice), "cudaMemcpy", message, size);
-}
-
-template <typename T> bool ensure(T **device, size_t *capacity, size_t count, char *message, size_t size)
-{
-  if (count <= *capacity && *device) return true;
-  if (*device) cudaFree(*device);
-  *device = NULL;
-  size_t grown = count + count / 2 + 64;
-  if (!check(cudaMalloc((void **)device, sizeof(T) * grown), "cudaMalloc", message, size)) return false;
-  *capacity = grown;
+  if (count <= a.capacity && a.data) return true;
+  cudaFree(a.data);
+  a.data = NULL;
+  a.capacity = 0;
+  size_t grown = count + count / 4 + 64;
+  if (!check(cudaMalloc((void **)&a.data, sizeof(T) * grown), "cudaMalloc", message, size)) return false;
+  a.capacity = grown;
   return true;
 }
+
+template <typename T> bool ensure(PinnedArray<T> &a, size_t count, char *message, size_t size)
+{
+  if (count <= a.capacity && a.data) return true;
+  cudaFreeHost(a.data);
+  a.data = NULL;
+  a.capacity = 0;
+  size_t grown = count + count / 4 + 64;
+  if (!check(cudaMallocHost((void **)&a.data, sizeof(T) * grown), "cudaMallocHost", message, size)) return false;
+  a.capacity = grown;
+  return true;
+}
+
+template <typename T> bool upload(DeviceArray<T> &a, const T *host, size_t count, char *message, size_t size)
+{
+  if (!ensure(a, count, message, size)) return false;
+  if (count == 0) return true;
+  return check(cudaMemcpy(a.data, host, sizeof(T) * count, cudaMemcpyHostToDevice), "cudaMemcpy", message, size);
+}
+
+template <typename T> void release(DeviceArray<T> &a)
+{
+  cudaFree(a.data);
+  a.data = NULL;
+  a.capacity = 0;
+}
+
+template <typename T> void release(PinnedArray<T> &a)
+{
+  cudaFreeHost(a.data);
+  a.data = NULL;
+  a.capacity = 0;
+}
+
+template <typename T> size_t bytes_of(const DeviceArray<T> &a) { return a.capacity * sizeof(T); }
 
 // A view of shape `shape` in the flat device arrays, with vertices and normals
 // of the view's scalar type.
@@ -91,49 +170,87 @@ __device__ View shape_view(const DeviceShapes &s, int shape, const Real *vertice
   return v;
 }
 
-__global__ void contact_kernel(DeviceShapes shapes, const poly_gpu_pair *pairs, int first, int count,
-                               const poly_material_pair *materials, int single_precision, int tangential,
-                               int damping, double dt, int advance_history, double *history,
-                               poly_gpu_result *results, char *scratch, size_t bytes_per_thread)
+// Pairs whose bounding spheres overlap go to the compact list (one atomic per
+// warp); the others are cleared: no contact, no history, no force.
+__global__ void bounding_kernel(DeviceShapes shapes, int num_pairs, const int *pair_i, const int *pair_j,
+                                const poly_gpu_particle *particles, const poly_gpu_motion *motion, int *contact,
+                                double *history, PairForce *pair_force, int *touching, int *counters)
+{
+  int p = blockIdx.x * blockDim.x + threadIdx.x;
+  int take = 0;
+  if (p < num_pairs) {
+    int i = pair_i[p], j = pair_j[p];
+    const double *xi = motion[i].position, *xj = motion[j].position;
+    double dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
+    double reach = shapes.radius[particles[i].shape] + shapes.radius[particles[j].shape];
+    take = dx * dx + dy * dy + dz * dz < reach * reach;
+    if (!take) {
+      contact[p] = 0;
+      for (int d = 0; d < POLY_HISTORY_SIZE; d++) history[POLY_HISTORY_SIZE * p + d] = 0.0;
+      PairForce zero = {};
+      pair_force[p] = zero;
+    }
+  }
+  // Every lane of the warp gets here (blocks are whole warps).
+  unsigned ballot = __ballot_sync(0xffffffffu, take);
+  if (!ballot) return;
+  int lane = threadIdx.x & 31, leader = __ffs(ballot) - 1, base = 0;
+  if (lane == leader) base = atomicAdd(counters, __popc(ballot));
+  base = __shfl_sync(0xffffffffu, base, leader);
+  if (take) touching[base + __popc(ballot & ((1u << lane) - 1u))] = p;
+}
+
+__global__ void contact_kernel(DeviceShapes shapes, const int *touching, int first, int count, const int *pair_i,
+                               const int *pair_j, const poly_gpu_particle *particles, const poly_gpu_motion *motion,
+                               const poly_material_pair *materials, int num_types, poly_gpu_settings settings,
+                               int *contact, double *history, PairForce *pair_force, poly_gpu_result *results,
+                               int *counters, char *scratch, size_t bytes_per_thread)
 {
   int local = blockIdx.x * blockDim.x + threadIdx.x;
   if (local >= count) return;
-  int p = first + local;
-  const poly_gpu_pair &pair = pairs[p];
-  poly_gpu_result out;
-  memset(&out, 0, sizeof out);
+  int p = touching[first + local];
+  int i = pair_i[p], j = pair_j[p];
+  const poly_gpu_particle &body_i = particles[i], &body_j = particles[j];
+  const poly_gpu_motion &state_i = motion[i], &state_j = motion[j];
 
-  // The relative pose, as poly_overlap_d/f compute it on the host.
+  // The relative pose, as poly_overlap_d/f/m compute it on the host.
   double rotation_i[9], rotation_j[9], rotation[9], difference[3], translation[3];
-  poly_quat_to_matrix(pair.quaternion_i, rotation_i);
-  poly_quat_to_matrix(pair.quaternion_j, rotation_j);
+  poly_quat_to_matrix(state_i.quaternion, rotation_i);
+  poly_quat_to_matrix(state_j.quaternion, rotation_j);
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++)
       rotation[3 * a + b] = rotation_i[a] * rotation_j[b] + rotation_i[3 + a] * rotation_j[3 + b] +
                             rotation_i[6 + a] * rotation_j[6 + b];
-  for (int k = 0; k < 3; k++) difference[k] = pair.position_j[k] - pair.position_i[k];
+  for (int k = 0; k < 3; k++) difference[k] = state_j.position[k] - state_i.position[k];
   poly_matrix_apply_transpose(rotation_i, difference, translation);
 
   poly_overlap_result geometry;
   double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
   char *memory = scratch + (size_t)local * bytes_per_thread;
-  if (single_precision) {
-    poly_overlap_workspace_f ws;
-    poly_overlap_workspace_layout_f(&ws, memory, shapes.max_vertices, shapes.max_triangles);
-    poly_shape_view_f a = shape_view<poly_shape_view_f>(shapes, pair.shape_i, shapes.vertices_f, shapes.normals_f);
-    poly_shape_view_f b = shape_view<poly_shape_view_f>(shapes, pair.shape_j, shapes.vertices_f, shapes.normals_f);
-    poly_overlap_local_f(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
-  } else {
+  if (settings.precision == POLY_PRECISION_DOUBLE) {
     poly_overlap_workspace_d ws;
     poly_overlap_workspace_layout_d(&ws, memory, shapes.max_vertices, shapes.max_triangles);
-    poly_shape_view_d a = shape_view<poly_shape_view_d>(shapes, pair.shape_i, shapes.vertices_d, shapes.normals_d);
-    poly_shape_view_d b = shape_view<poly_shape_view_d>(shapes, pair.shape_j, shapes.vertices_d, shapes.normals_d);
+    poly_shape_view_d a = shape_view<poly_shape_view_d>(shapes, body_i.shape, shapes.vertices_d, shapes.normals_d);
+    poly_shape_view_d b = shape_view<poly_shape_view_d>(shapes, body_j.shape, shapes.vertices_d, shapes.normals_d);
     poly_overlap_local_d(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
+  } else {
+    poly_overlap_workspace_f ws;
+    poly_overlap_workspace_layout_f(&ws, memory, shapes.max_vertices, shapes.max_triangles);
+    poly_shape_view_f a = shape_view<poly_shape_view_f>(shapes, body_i.shape, shapes.vertices_f, shapes.normals_f);
+    poly_shape_view_f b = shape_view<poly_shape_view_f>(shapes, body_j.shape, shapes.vertices_f, shapes.normals_f);
+    if (settings.precision == POLY_PRECISION_MIXED)
+      poly_overlap_local_m(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
+    else
+      poly_overlap_local_f(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
   }
-  double *state_history = history + POLY_HISTORY_SIZE * p;
-  if (!(geometry.volume > pair.negligible_volume) || !(geometry.depth > 0.0)) {
-    for (int d = 0; d < POLY_HISTORY_SIZE; d++) state_history[d] = 0.0;
-    results[p] = out;
+  double *pair_history = history + POLY_HISTORY_SIZE * p;
+  double negligible = body_i.negligible_volume < body_j.negligible_volume ? body_i.negligible_volume
+                                                                          : body_j.negligible_volume;
+  if (!(geometry.volume > negligible) || !(geometry.depth > 0.0)) {
+    contact[p] = 0;
+    for (int d = 0; d < POLY_HISTORY_SIZE; d++) pair_history[d] = 0.0;
+    PairForce zero = {};
+    pair_force[p] = zero;
     return;
   }
   poly_contact_input input;
@@ -141,30 +258,68 @@ __global__ void contact_kernel(DeviceShapes shapes, const poly_gpu_pair *pairs, 
   input.depth = geometry.depth;
   poly_matrix_apply(rotation_i, local_centroid, input.centroid);
   poly_matrix_apply(rotation_i, local_normal, input.normal);
-  for (int k = 0; k < 3; k++) input.centroid[k] += pair.position_i[k];
-  poly_contact_input_set_bodies(&input, pair.position_i, pair.velocity_i, pair.omega_i, pair.mass_i, pair.position_j,
-                                pair.velocity_j, pair.omega_j, pair.mass_j, dt);
+  for (int k = 0; k < 3; k++) input.centroid[k] += state_i.position[k];
+  poly_contact_input_set_bodies(&input, state_i.position, state_i.velocity, state_i.omega, body_i.mass,
+                                state_j.position, state_j.velocity, state_j.omega, body_j.mass, settings.dt);
   double scratch_history[POLY_HISTORY_SIZE];
-  double *law_history = state_history;
-  if (!advance_history) {
-    for (int d = 0; d < POLY_HISTORY_SIZE; d++) scratch_history[d] = state_history[d];
+  double *law_history = pair_history;
+  if (!settings.advance_history) {
+    for (int d = 0; d < POLY_HISTORY_SIZE; d++) scratch_history[d] = pair_history[d];
     law_history = scratch_history;
   }
   poly_contact_output law;
-  poly_contact_evaluate(&input, &materials[pair.material], tangential, damping, law_history, &law);
-  out.contact = 1;
-  out.volume = geometry.volume;
-  out.depth = geometry.depth;
-  out.normal_force = law.normal_force;
+  poly_contact_evaluate(&input, &materials[body_i.type * (num_types + 1) + body_j.type], settings.tangential,
+                        settings.damping, law_history, &law);
+  contact[p] = 1;
+  atomicAdd(counters + 1, 1);
+  PairForce out;
   for (int k = 0; k < 3; k++) {
     out.force_j[k] = law.force_j[k];
     out.torque_i[k] = law.torque_i[k];
     out.torque_j[k] = law.torque_j[k];
-    out.normal[k] = input.normal[k];
-    out.centroid[k] = input.centroid[k];
-    out.tangential_force[k] = law.tangential_force[k];
   }
-  results[p] = out;
+  pair_force[p] = out;
+  if (results) {
+    poly_gpu_result r;
+    memset(&r, 0, sizeof r);
+    r.contact = 1;
+    r.volume = geometry.volume;
+    r.depth = geometry.depth;
+    r.normal_force = law.normal_force;
+    for (int k = 0; k < 3; k++) {
+      r.force_j[k] = law.force_j[k];
+      r.torque_i[k] = law.torque_i[k];
+      r.torque_j[k] = law.torque_j[k];
+      r.normal[k] = input.normal[k];
+      r.centroid[k] = input.centroid[k];
+      r.tangential_force[k] = law.tangential_force[k];
+    }
+    results[p] = r;
+  }
+}
+
+// Force and torque on each force particle: its pairs in a fixed order.
+__global__ void reduce_kernel(int num_force_particles, const int *offsets, const int *entries,
+                              const PairForce *pair_force, double *force_torque)
+{
+  int n = blockIdx.x * blockDim.x + threadIdx.x;
+  if (n >= num_force_particles) return;
+  double sum[6] = {0, 0, 0, 0, 0, 0};
+  for (int e = offsets[n]; e < offsets[n + 1]; e++) {
+    int entry = entries[e];
+    const PairForce &pf = pair_force[entry >> 1];
+    if (entry & 1)
+      for (int k = 0; k < 3; k++) {
+        sum[k] += pf.force_j[k];
+        sum[3 + k] += pf.torque_j[k];
+      }
+    else
+      for (int k = 0; k < 3; k++) {
+        sum[k] -= pf.force_j[k];
+        sum[3 + k] += pf.torque_i[k];
+      }
+  }
+  for (int k = 0; k < 6; k++) force_torque[6 * n + k] = sum[k];
 }
 
 void free_shapes(DeviceShapes &s)
@@ -173,6 +328,15 @@ void free_shapes(DeviceShapes &s)
   cudaFree(s.vertices_d); cudaFree(s.normals_d); cudaFree(s.vertices_f); cudaFree(s.normals_f);
   cudaFree(s.triangles); cudaFree(s.edges); cudaFree(s.edge_triangles);
   memset(&s, 0, sizeof s);
+}
+
+template <typename T> bool upload_raw(T **device, const std::vector<T> &host, char *message, size_t size)
+{
+  if (!check(cudaMalloc((void **)device, sizeof(T) * (host.empty() ? 1 : host.size())), "cudaMalloc", message, size))
+    return false;
+  if (host.empty()) return true;
+  return check(cudaMemcpy(*device, &host[0], sizeof(T) * host.size(), cudaMemcpyHostToDevice), "cudaMemcpy", message,
+               size);
 }
 
 }  // namespace
@@ -195,132 +359,234 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
   }
   if (!check(cudaSetDevice(device % devices), "cudaSetDevice", message, message_size)) return -1;
 
-  // Flatten the shapes.
-  int total_vertices = 0, total_triangles = 0, total_edges = 0;
+  // Flatten the shapes; vertex indices stay shape-local.
   DeviceShapes &s = state.shapes;
   s.count = num_shapes;
   s.max_vertices = s.max_triangles = 1;
-  for (int i = 0; i < num_shapes; i++) {
-    total_vertices += shapes[i]->num_vertices;
-    total_triangles += shapes[i]->num_triangles;
-    total_edges += shapes[i]->num_edges;
-    if (shapes[i]->num_vertices > s.max_vertices) s.max_vertices = shapes[i]->num_vertices;
-    if (shapes[i]->num_triangles > s.max_triangles) s.max_triangles = shapes[i]->num_triangles;
-  }
-  int *offsets = new int[3 * num_shapes], *counts = new int[3 * num_shapes];
-  double *radius = new double[num_shapes];
-  double *vertices_d = new double[3 * total_vertices], *normals_d = new double[3 * total_triangles];
-  float *vertices_f = new float[3 * total_vertices], *normals_f = new float[3 * total_triangles];
-  int *triangles = new int[3 * total_triangles], *edges = new int[2 * total_edges];
-  int *edge_triangles = new int[2 * total_edges];
+  std::vector<int> offsets, counts, triangles, edges, edge_triangles;
+  std::vector<double> radius, vertices_d, normals_d;
+  std::vector<float> vertices_f, normals_f;
   int v = 0, t = 0, e = 0;
   for (int i = 0; i < num_shapes; i++) {
     const poly_shape *shape = shapes[i];
-    offsets[3 * i] = v; offsets[3 * i + 1] = t; offsets[3 * i + 2] = e;
-    counts[3 * i] = shape->num_vertices; counts[3 * i + 1] = shape->num_triangles; counts[3 * i + 2] = shape->num_edges;
-    radius[i] = shape->bounding_radius;
+    if (shape->num_vertices > s.max_vertices) s.max_vertices = shape->num_vertices;
+    if (shape->num_triangles > s.max_triangles) s.max_triangles = shape->num_triangles;
+    offsets.push_back(v); offsets.push_back(t); offsets.push_back(e);
+    counts.push_back(shape->num_vertices); counts.push_back(shape->num_triangles); counts.push_back(shape->num_edges);
+    radius.push_back(shape->bounding_radius);
     for (int k = 0; k < 3 * shape->num_vertices; k++) {
-      vertices_d[3 * v + k] = shape->vertices[k];
-      vertices_f[3 * v + k] = (float)shape->vertices[k];
+      vertices_d.push_back(shape->vertices[k]);
+      vertices_f.push_back((float)shape->vertices[k]);
     }
     for (int k = 0; k < 3 * shape->num_triangles; k++) {
-      normals_d[3 * t + k] = shape->face_normals[k];
-      normals_f[3 * t + k] = (float)shape->face_normals[k];
-      triangles[3 * t + k] = shape->triangles[k];  // vertex indices stay shape-local
+      normals_d.push_back(shape->face_normals[k]);
+      normals_f.push_back((float)shape->face_normals[k]);
+      triangles.push_back(shape->triangles[k]);
     }
     for (int k = 0; k < 2 * shape->num_edges; k++) {
-      edges[2 * e + k] = shape->edges[k];
-      edge_triangles[2 * e + k] = shape->edge_triangles[k];
+      edges.push_back(shape->edges[k]);
+      edge_triangles.push_back(shape->edge_triangles[k]);
     }
     v += shape->num_vertices; t += shape->num_triangles; e += shape->num_edges;
   }
-  bool ok = upload(&s.offsets, offsets, 3 * num_shapes, message, message_size) &&
-            upload(&s.counts, counts, 3 * num_shapes, message, message_size) &&
-            upload(&s.radius, radius, num_shapes, message, message_size) &&
-            upload(&s.vertices_d, vertices_d, 3 * total_vertices, message, message_size) &&
-            upload(&s.normals_d, normals_d, 3 * total_triangles, message, message_size) &&
-            upload(&s.vertices_f, vertices_f, 3 * total_vertices, message, message_size) &&
-            upload(&s.normals_f, normals_f, 3 * total_triangles, message, message_size) &&
-            upload(&s.triangles, triangles, 3 * total_triangles, message, message_size) &&
-            upload(&s.edges, edges, 2 * total_edges, message, message_size) &&
-            upload(&s.edge_triangles, edge_triangles, 2 * total_edges, message, message_size);
-  delete[] offsets; delete[] counts; delete[] radius; delete[] vertices_d; delete[] normals_d;
-  delete[] vertices_f; delete[] normals_f; delete[] triangles; delete[] edges; delete[] edge_triangles;
+  bool ok = upload_raw(&s.offsets, offsets, message, message_size) &&
+            upload_raw(&s.counts, counts, message, message_size) &&
+            upload_raw(&s.radius, radius, message, message_size) &&
+            upload_raw(&s.vertices_d, vertices_d, message, message_size) &&
+            upload_raw(&s.normals_d, normals_d, message, message_size) &&
+            upload_raw(&s.vertices_f, vertices_f, message, message_size) &&
+            upload_raw(&s.normals_f, normals_f, message, message_size) &&
+            upload_raw(&s.triangles, triangles, message, message_size) &&
+            upload_raw(&s.edges, edges, message, message_size) &&
+            upload_raw(&s.edge_triangles, edge_triangles, message, message_size) &&
+            ensure(state.counters, 2, message, message_size);
   if (!ok) return -1;
   state.ready = true;
   return 0;
 }
 
-extern "C" int poly_gpu_compute(int num_pairs, const poly_gpu_pair *pairs, const poly_material_pair *materials,
-                                int num_materials, int single_precision, int tangential, int damping, double dt,
-                                int advance_history, double *history, poly_gpu_result *results, char *message,
-                                size_t message_size)
+extern "C" int poly_gpu_set_pairs(int num_particles, int num_force_particles, const poly_gpu_particle *particles,
+                                  int num_pairs, const int *pair_i, const int *pair_j, const double *history,
+                                  int num_types, const poly_material_pair *materials, char *message,
+                                  size_t message_size)
 {
   if (!state.ready) {
-    snprintf(message, message_size, "poly_gpu_compute before poly_gpu_init");
+    snprintf(message, message_size, "poly_gpu_set_pairs before poly_gpu_init");
     return -1;
   }
-  if (num_pairs == 0) return 0;
-  if (!ensure(&state.pairs, &state.pair_capacity, num_pairs, message, message_size) ||
-      !ensure(&state.results, &state.result_capacity, num_pairs, message, message_size) ||
-      !ensure(&state.history, &state.history_capacity, (size_t)num_pairs * POLY_HISTORY_SIZE, message, message_size))
+  double start = now();
+  // Each force particle's pairs, in pair order: counting sort.
+  std::vector<int> offsets(num_force_particles + 1, 0), entries;
+  for (int p = 0; p < num_pairs; p++) {
+    if (pair_i[p] >= num_force_particles) {
+      snprintf(message, message_size, "pair %d: first particle %d is not a force particle", p, pair_i[p]);
+      return -1;
+    }
+    offsets[pair_i[p] + 1]++;
+    if (pair_j[p] < num_force_particles) offsets[pair_j[p] + 1]++;
+  }
+  for (int n = 0; n < num_force_particles; n++) offsets[n + 1] += offsets[n];
+  entries.resize(offsets[num_force_particles] > 0 ? offsets[num_force_particles] : 1);
+  std::vector<int> fill(offsets.begin(), offsets.end() - 1);
+  for (int p = 0; p < num_pairs; p++) {
+    entries[fill[pair_i[p]]++] = 2 * p;
+    if (pair_j[p] < num_force_particles) entries[fill[pair_j[p]]++] = 2 * p + 1;
+  }
+  size_t num_materials = (size_t)(num_types + 1) * (num_types + 1);
+  state.num_particles = num_particles;
+  state.num_force_particles = num_force_particles;
+  state.num_pairs = num_pairs;
+  state.num_types = num_types;
+  bool ok = upload(state.particles, particles, num_particles, message, message_size) &&
+            upload(state.pair_i, pair_i, num_pairs, message, message_size) &&
+            upload(state.pair_j, pair_j, num_pairs, message, message_size) &&
+            upload(state.history, history, (size_t)POLY_HISTORY_SIZE * num_pairs, message, message_size) &&
+            upload(state.csr_offsets, &offsets[0], offsets.size(), message, message_size) &&
+            upload(state.csr_entries, &entries[0], entries.size(), message, message_size) &&
+            upload(state.materials, materials, num_materials, message, message_size) &&
+            ensure(state.contact, num_pairs, message, message_size) &&
+            ensure(state.touching, num_pairs, message, message_size) &&
+            ensure(state.pair_force, num_pairs, message, message_size) &&
+            ensure(state.motion, num_particles, message, message_size) &&
+            ensure(state.force_torque, 6 * (size_t)num_force_particles, message, message_size) &&
+            ensure(state.host_motion, num_particles, message, message_size) &&
+            ensure(state.host_force_torque, 6 * (size_t)num_force_particles, message, message_size);
+  if (!ok) return -1;
+  if (num_pairs > 0 && !check(cudaMemset(state.contact.data, 0, sizeof(int) * num_pairs), "cudaMemset", message,
+                              message_size))
     return -1;
-  if (!ensure(&state.materials, &state.material_capacity, num_materials, message, message_size)) return -1;
-  if (!check(cudaMemcpy(state.pairs, pairs, sizeof(poly_gpu_pair) * num_pairs, cudaMemcpyHostToDevice), "upload pairs",
-             message, message_size) ||
-      !check(cudaMemcpy(state.history, history, sizeof(double) * POLY_HISTORY_SIZE * num_pairs,
-                        cudaMemcpyHostToDevice), "upload history", message, message_size) ||
-      !check(cudaMemcpy(state.materials, materials, sizeof(poly_material_pair) * num_materials,
-                        cudaMemcpyHostToDevice), "upload materials", message, message_size))
+  state.timing.set_pairs += now() - start;
+  state.timing.num_set_pairs++;
+  return 0;
+}
+
+extern "C" poly_gpu_motion *poly_gpu_motion_buffer(void)
+{
+  return state.host_motion.data;
+}
+
+extern "C" const double *poly_gpu_force_torque(void)
+{
+  return state.host_force_torque.data;
+}
+
+extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_result *results, int *num_contacts,
+                                char *message, size_t message_size)
+{
+  if (!state.ready || !state.host_motion.data) {
+    snprintf(message, message_size, "poly_gpu_compute before poly_gpu_init and poly_gpu_set_pairs");
     return -1;
+  }
+  const int num_pairs = state.num_pairs;
+  double start = now();
+  if (!check(cudaMemcpy(state.motion.data, state.host_motion.data, sizeof(poly_gpu_motion) * state.num_particles,
+                        cudaMemcpyHostToDevice), "upload motion", message, message_size) ||
+      !check(cudaMemset(state.counters.data, 0, 2 * sizeof(int)), "cudaMemset", message, message_size))
+    return -1;
+  double uploaded = now();
+
+  const DeviceShapes &s = state.shapes;
+  const int threads = 128;
+  int counters[2] = {0, 0};
+  poly_gpu_result *device_results = NULL;
+  if (results) {
+    if (!ensure(state.results, num_pairs, message, message_size) ||
+        !check(cudaMemset(state.results.data, 0, sizeof(poly_gpu_result) * (num_pairs > 0 ? num_pairs : 1)),
+               "cudaMemset", message, message_size))
+      return -1;
+    device_results = state.results.data;
+  }
+  if (num_pairs > 0) {
+    bounding_kernel<<<(num_pairs + threads - 1) / threads, threads>>>(
+        s, num_pairs, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
+        state.contact.data, state.history.data, state.pair_force.data, state.touching.data, state.counters.data);
+    if (!check(cudaGetLastError(), "bounding kernel launch", message, message_size) ||
+        !check(cudaMemcpy(counters, state.counters.data, sizeof(int), cudaMemcpyDeviceToHost), "bounding kernel",
+               message, message_size))
+      return -1;
+  }
+  const int num_touching = counters[0];
 
   // Workspaces for a batch of threads at a time: bounded memory for any pair count.
-  const DeviceShapes &s = state.shapes;
-  size_t workspace = single_precision
-                         ? poly_overlap_workspace_layout_f(NULL, NULL, s.max_vertices, s.max_triangles)
-                         : poly_overlap_workspace_layout_d(NULL, NULL, s.max_vertices, s.max_triangles);
+  size_t workspace = settings->precision == POLY_PRECISION_DOUBLE
+                         ? poly_overlap_workspace_layout_d(NULL, NULL, s.max_vertices, s.max_triangles)
+                         : poly_overlap_workspace_layout_f(NULL, NULL, s.max_vertices, s.max_triangles);
   workspace = (workspace + 255) / 256 * 256;
-  size_t batch = (size_t)1 << 16;
+  size_t batch = (size_t)1 << 18;
   const size_t budget = (size_t)1 << 30;
   while (batch > 256 && batch * workspace > budget) batch /= 2;
-  if (state.scratch_bytes < batch * workspace) {
-    cudaFree(state.scratch);
-    state.scratch = NULL;
-    if (!check(cudaMalloc(&state.scratch, batch * workspace), "cudaMalloc scratch", message, message_size)) return -1;
-    state.scratch_bytes = batch * workspace;
-  }
-  const int threads = 128;
-  for (size_t first = 0; first < (size_t)num_pairs; first += batch) {
-    int count = (int)((size_t)num_pairs - first < batch ? (size_t)num_pairs - first : batch);
+  if (num_touching > 0 && !ensure(state.scratch, batch * workspace, message, message_size)) return -1;
+  for (size_t first = 0; first < (size_t)num_touching; first += batch) {
+    int count = (int)((size_t)num_touching - first < batch ? (size_t)num_touching - first : batch);
     contact_kernel<<<(count + threads - 1) / threads, threads>>>(
-        s, state.pairs, (int)first, count, state.materials, single_precision, tangential, damping, dt,
-        advance_history, state.history, state.results, (char *)state.scratch, workspace);
+        s, state.touching.data, (int)first, count, state.pair_i.data, state.pair_j.data, state.particles.data,
+        state.motion.data, state.materials.data, state.num_types, *settings, state.contact.data, state.history.data,
+        state.pair_force.data, device_results, state.counters.data, state.scratch.data, workspace);
     if (!check(cudaGetLastError(), "contact kernel launch", message, message_size)) return -1;
   }
-  if (!check(cudaDeviceSynchronize(), "contact kernel", message, message_size) ||
-      !check(cudaMemcpy(results, state.results, sizeof(poly_gpu_result) * num_pairs, cudaMemcpyDeviceToHost),
-             "download results", message, message_size) ||
-      !check(cudaMemcpy(history, state.history, sizeof(double) * POLY_HISTORY_SIZE * num_pairs,
-                        cudaMemcpyDeviceToHost), "download history", message, message_size))
+  if (!results && state.num_force_particles > 0) {
+    reduce_kernel<<<(state.num_force_particles + threads - 1) / threads, threads>>>(
+        state.num_force_particles, state.csr_offsets.data, state.csr_entries.data, state.pair_force.data,
+        state.force_torque.data);
+    if (!check(cudaGetLastError(), "reduction kernel launch", message, message_size)) return -1;
+  }
+  if (!check(cudaDeviceSynchronize(), "contact kernel", message, message_size)) return -1;
+  double computed = now();
+  if (!check(cudaMemcpy(counters, state.counters.data, 2 * sizeof(int), cudaMemcpyDeviceToHost), "download counters",
+             message, message_size))
+    return -1;
+  if (results) {
+    if (num_pairs > 0 && !check(cudaMemcpy(results, device_results, sizeof(poly_gpu_result) * num_pairs,
+                                           cudaMemcpyDeviceToHost), "download results", message, message_size))
+      return -1;
+  } else if (state.num_force_particles > 0 &&
+             !check(cudaMemcpy(state.host_force_torque.data, state.force_torque.data,
+                               6 * sizeof(double) * state.num_force_particles, cudaMemcpyDeviceToHost),
+                    "download forces", message, message_size)) {
+    return -1;
+  }
+  if (num_contacts) *num_contacts = counters[1];
+  double done = now();
+  state.timing.upload += uploaded - start;
+  state.timing.kernels += computed - uploaded;
+  state.timing.download += done - computed;
+  state.timing.num_compute++;
+  return 0;
+}
+
+extern "C" int poly_gpu_get_history(double *history, int *contact, char *message, size_t message_size)
+{
+  if (state.num_pairs == 0) return 0;
+  if (!check(cudaMemcpy(history, state.history.data, sizeof(double) * POLY_HISTORY_SIZE * state.num_pairs,
+                        cudaMemcpyDeviceToHost), "download history", message, message_size) ||
+      !check(cudaMemcpy(contact, state.contact.data, sizeof(int) * state.num_pairs, cudaMemcpyDeviceToHost),
+             "download contact flags", message, message_size))
     return -1;
   return 0;
 }
 
+extern "C" poly_gpu_timing poly_gpu_timings(void)
+{
+  return state.timing;
+}
+
 extern "C" size_t poly_gpu_bytes(void)
 {
-  // Shapes are small; report the per-step buffers, which dominate.
-  return state.scratch_bytes + state.pair_capacity * sizeof(poly_gpu_pair) +
-         state.result_capacity * sizeof(poly_gpu_result) + state.history_capacity * sizeof(double) +
-         state.material_capacity * sizeof(poly_material_pair);
+  // Shapes are small; the per-particle and per-pair arrays and the workspaces dominate.
+  return bytes_of(state.particles) + bytes_of(state.motion) + bytes_of(state.pair_i) + bytes_of(state.pair_j) +
+         bytes_of(state.history) + bytes_of(state.contact) + bytes_of(state.touching) + bytes_of(state.counters) +
+         bytes_of(state.pair_force) + bytes_of(state.results) + bytes_of(state.csr_offsets) +
+         bytes_of(state.csr_entries) + bytes_of(state.force_torque) + bytes_of(state.materials) +
+         bytes_of(state.scratch);
 }
 
 extern "C" void poly_gpu_clear(void)
 {
   if (state.ready) free_shapes(state.shapes);
-  cudaFree(state.scratch);
-  cudaFree(state.pairs);
-  cudaFree(state.results);
-  cudaFree(state.history);
-  cudaFree(state.materials);
+  release(state.particles); release(state.motion); release(state.pair_i); release(state.pair_j);
+  release(state.history); release(state.contact); release(state.touching); release(state.counters);
+  release(state.pair_force); release(state.results); release(state.csr_offsets); release(state.csr_entries);
+  release(state.force_torque); release(state.materials); release(state.scratch);
+  release(state.host_motion); release(state.host_force_torque);
   state = State();
 }

@@ -1,11 +1,22 @@
 /* The CUDA narrow phase of pair_style polyhedral/volumetric/gpu: a C-linkage
- * boundary in the manner of LAMMPS' lib/gpu. Shapes are uploaded once
- * (poly_gpu_init); each step the host hands over the candidate pairs with
- * their poses and velocities and gets forces, torques, the updated contact
- * history and the contact geometry back (poly_gpu_compute). Device memory is
- * owned here and grown, never shrunk, between steps. The kernels call the same
- * overlap geometry (src/poly_overlap_impl.h) and contact law
- * (src/poly_contact.h) as the CPU style. */
+ * boundary in the manner of LAMMPS' lib/gpu.
+ *
+ *   poly_gpu_init          once: select the device, upload the shapes
+ *   poly_gpu_set_pairs     at each neighbour-list rebuild: the candidate pairs
+ *                          (all pairs of the list), per-particle constants,
+ *                          materials and the contact history from LIGGGHTS
+ *   poly_gpu_compute       every step: poses and velocities in (through the
+ *                          pinned poly_gpu_motion_buffer), summed forces and
+ *                          torques per particle out (poly_gpu_force_torque), or
+ *                          per-pair results when the host needs them (virial,
+ *                          contact records)
+ *   poly_gpu_get_history   before LIGGGHTS migrates or writes history: the
+ *                          history lives on the device between rebuilds
+ *   poly_gpu_clear         free everything
+ *
+ * Device memory and the pinned host buffers are owned here and grown, never
+ * shrunk. The kernels call the same overlap geometry (src/poly_overlap_impl.h)
+ * and contact law (src/poly_contact.h) as the CPU style. */
 #ifndef POLY_GPU_H
 #define POLY_GPU_H
 
@@ -18,37 +29,74 @@
 extern "C" {
 #endif
 
-/* Per candidate pair, as the host packs it. */
-typedef struct poly_gpu_pair {
-  int shape_i, shape_j;          /* index into the shapes given to poly_gpu_init */
-  int material;                  /* index into the materials of the call */
-  int flags;                     /* reserved, 0 */
-  double position_i[3], quaternion_i[4], velocity_i[3], omega_i[3];
-  double position_j[3], quaternion_j[4], velocity_j[3], omega_j[3];
-  double mass_i, mass_j;
-  double negligible_volume;      /* overlaps at most this large are no contact */
-} poly_gpu_pair;
+/* Per particle (owned and ghost), constant between neighbour-list rebuilds. */
+typedef struct poly_gpu_particle {
+  int shape;                     /* index into the shapes given to poly_gpu_init */
+  int type;                      /* atom type, 1..num_types */
+  double mass;
+  double negligible_volume;      /* a pair's overlap at most the smaller of its two is no contact */
+} poly_gpu_particle;
 
-/* Per pair, back to the host. contact = 0: no contact (history zeroed). */
+/* Per particle, every step. */
+typedef struct poly_gpu_motion {
+  double position[3], quaternion[4], velocity[3], omega[3];
+} poly_gpu_motion;
+
+typedef struct poly_gpu_settings {
+  int precision;                 /* poly_precision: double, single or mixed */
+  int tangential, damping;       /* the pair style's switches */
+  int advance_history;           /* 0 in set-up force evaluations */
+  double dt;
+} poly_gpu_settings;
+
+/* Per pair, when asked for. contact = 0: no contact. */
 typedef struct poly_gpu_result {
   int contact, pad;
   double force_j[3], torque_i[3], torque_j[3];
   double volume, depth, normal[3], centroid[3], normal_force, tangential_force[3];
 } poly_gpu_result;
 
+/* Accumulated wall-clock seconds of poly_gpu_set_pairs and of the phases of
+ * poly_gpu_compute, and how often each ran. */
+typedef struct poly_gpu_timing {
+  double set_pairs, upload, kernels, download;
+  long num_set_pairs, num_compute;
+} poly_gpu_timing;
+
 /* Number of CUDA devices usable by this process (0 without a driver or GPU). */
 int poly_gpu_device_count(void);
 
-/* Selects device `device` (e.g. node-local rank modulo the device count) and
- * uploads the shapes. 0 on success, else a message. */
+/* Selects device `device` (modulo the device count) and uploads the shapes.
+ * 0 on success, else a message. */
 int poly_gpu_init(int device, int num_shapes, const poly_shape *const *shapes, char *message, size_t message_size);
 
-/* Overlap and contact law for `num_pairs` pairs. history: POLY_HISTORY_SIZE
- * doubles per pair, read and (with advance_history) written back. */
-int poly_gpu_compute(int num_pairs, const poly_gpu_pair *pairs, const poly_material_pair *materials,
-                     int num_materials, int single_precision, int tangential, int damping, double dt,
-                     int advance_history, double *history, poly_gpu_result *results, char *message,
+/* The candidate pairs (pair_i[p], pair_j[p]) into the particle arrays, with
+ * POLY_HISTORY_SIZE history doubles per pair. Forces are summed for particles
+ * 0 .. num_force_particles-1 (owned, or all with newton on); the pair's first
+ * particle must be one of them. materials: (num_types+1)^2, indexed
+ * type_i * (num_types+1) + type_j. */
+int poly_gpu_set_pairs(int num_particles, int num_force_particles, const poly_gpu_particle *particles, int num_pairs,
+                       const int *pair_i, const int *pair_j, const double *history, int num_types,
+                       const poly_material_pair *materials, char *message, size_t message_size);
+
+/* Pinned host buffer for the motion of the num_particles of poly_gpu_set_pairs,
+ * filled by the caller before poly_gpu_compute. NULL when it cannot be had. */
+poly_gpu_motion *poly_gpu_motion_buffer(void);
+
+/* One step. With results == NULL: forces and torques summed per particle, read
+ * afterwards from poly_gpu_force_torque. Otherwise per-pair results (num_pairs
+ * of them) and no sums. num_contacts: pairs in contact. */
+int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_result *results, int *num_contacts, char *message,
                      size_t message_size);
+
+/* After poly_gpu_compute without results: 6 doubles per force particle, force
+ * then torque. Pinned host memory, valid until the next call. */
+const double *poly_gpu_force_torque(void);
+
+/* The contact history and contact flags of the pairs of poly_gpu_set_pairs. */
+int poly_gpu_get_history(double *history, int *contact, char *message, size_t message_size);
+
+poly_gpu_timing poly_gpu_timings(void);
 
 /* Bytes of device memory held now. */
 size_t poly_gpu_bytes(void);

@@ -41,3 +41,10 @@ void FixContactHistoryPolyhedral::init()
   computeflag_ = &pair->computeflag;
   allocate_pages();
 }
+
+void FixContactHistoryPolyhedral::pre_exchange()
+{
+  PairPolyhedralVolumetric *pair = dynamic_cast<PairPolyhedralVolumetric *>(force->pair);
+  if (pair) pair->history_to_host();
+  FixContactHistory::pre_exchange();
+}

@@ -29,9 +29,9 @@ static const double kHertzFraction = 0.1;
 PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
     : Pair(lmp), computeflag(0), listgranhistory(NULL), tangential_history(true), damping(true),
 #ifdef POLY_SINGLE_PRECISION
-      single_precision(true),
+      precision(POLY_PRECISION_SINGLE),
 #else
-      single_precision(false),
+      precision(POLY_PRECISION_DOUBLE),
 #endif
       recording(false), have_workspace(false), maxrad(NULL), fix_history(NULL), atom_ntypes(0)
 {
@@ -63,7 +63,7 @@ void PairPolyhedralVolumetric::allocate()
     for (int j = 0; j <= n; j++) setflag[i][j] = 0;
 }
 
-// pair_style polyhedral/volumetric [tangential history|off] [damping on|off] [precision double|single]
+// pair_style polyhedral/volumetric [tangential history|off] [damping on|off] [precision double|single|mixed]
 void PairPolyhedralVolumetric::settings(int narg, char **arg)
 {
   for (int iarg = 0; iarg < narg; iarg += 2) {
@@ -81,8 +81,10 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
       ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
       damping = strcmp(value, "on") == 0;
     } else if (strcmp(key, "precision") == 0) {
-      ok = strcmp(value, "double") == 0 || strcmp(value, "single") == 0;
-      single_precision = strcmp(value, "single") == 0;
+      ok = strcmp(value, "double") == 0 || strcmp(value, "single") == 0 || strcmp(value, "mixed") == 0;
+      precision = strcmp(value, "single") == 0  ? POLY_PRECISION_SINGLE
+                  : strcmp(value, "mixed") == 0 ? POLY_PRECISION_MIXED
+                                                : POLY_PRECISION_DOUBLE;
     } else {
       char message[256];
       snprintf(message, sizeof message,
@@ -330,8 +332,10 @@ void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result
     pose_j.quaternion[k] = atom->quaternion[j][k];
   }
   int si = atom->shapetype[i], sj = atom->shapetype[j];
-  if (single_precision)
+  if (precision == POLY_PRECISION_SINGLE)
     poly_overlap_f(&views_f[si], &pose_i, &views_f[sj], &pose_j, &workspace_f, result);
+  else if (precision == POLY_PRECISION_MIXED)
+    poly_overlap_m(&views_f[si], &pose_i, &views_f[sj], &pose_j, &workspace_f, result);
   else
     poly_overlap_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, &workspace_d, result);
 }
@@ -472,7 +476,7 @@ void PairPolyhedralVolumetric::read_restart(FILE *fp, const int major, const int
 
 void PairPolyhedralVolumetric::write_restart_settings(FILE *fp)
 {
-  int flags[3] = {tangential_history, damping, single_precision};
+  int flags[3] = {tangential_history, damping, precision};
   fwrite(flags, sizeof(int), 3, fp);
 }
 
@@ -483,7 +487,7 @@ void PairPolyhedralVolumetric::read_restart_settings(FILE *fp, const int, const 
   MPI_Bcast(flags, 3, MPI_INT, 0, world);
   tangential_history = flags[0];
   damping = flags[1];
-  single_precision = flags[2];
+  precision = flags[2];
 }
 
 double PairPolyhedralVolumetric::memory_usage()

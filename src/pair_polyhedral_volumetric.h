@@ -45,8 +45,13 @@ class PairPolyhedralVolumetric : public Pair {
   void record_contacts(bool on) { recording = on; }
   const std::vector<PolyContactRecord> &recorded_contacts() const { return records; }
 
+  // Called by the contact-history fix before LIGGGHTS reads the history in the
+  // neighbour list; a style that keeps history elsewhere (the GPU) puts it back.
+  virtual void history_to_host() {}
+
  protected:
-  bool tangential_history, damping, single_precision;
+  bool tangential_history, damping;
+  int precision;  // poly_precision
   bool recording;
   std::vector<PolyContactRecord> records;
 

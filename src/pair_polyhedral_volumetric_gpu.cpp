@@ -8,6 +8,7 @@
 #include "error.h"
 #include "force.h"
 #include "neigh_list.h"
+#include "neighbor.h"
 #include "update.h"
 
 #include "fix_particletemplate_polyhedron.h"
@@ -20,19 +21,41 @@ using namespace LAMMPS_NS;
 
 #ifndef POLY_HAVE_CUDA
 // Built without CUDA: the style exists so that input scripts name it, and says why it cannot run.
-struct poly_gpu_pair {};
 struct poly_gpu_result {};
 #endif
 
-PairPolyhedralVolumetricGPU::PairPolyhedralVolumetricGPU(LAMMPS *lmp) : PairPolyhedralVolumetric(lmp), device_ready(false)
+PairPolyhedralVolumetricGPU::PairPolyhedralVolumetricGPU(LAMMPS *lmp)
+    : PairPolyhedralVolumetric(lmp), device_ready(false), pairs_build(-1), device_history_newer(false),
+      num_force_particles(0)
 {
 }
 
 PairPolyhedralVolumetricGPU::~PairPolyhedralVolumetricGPU()
 {
 #ifdef POLY_HAVE_CUDA
-  if (device_ready) poly_gpu_clear();
+  if (!device_ready) return;
+  // Where the time went, as LAMMPS' GPU package reports it at the end.
+  poly_gpu_timing t = poly_gpu_timings();
+  double local[5] = {t.set_pairs, t.upload, t.kernels, t.download, poly_gpu_bytes() / 1048576.0}, sum[5];
+  MPI_Reduce(local, sum, 5, MPI_DOUBLE, MPI_SUM, 0, world);
+  if (comm->me == 0 && t.num_compute > 0) {
+    char text[400];
+    snprintf(text, sizeof text,
+             "Pair polyhedral/volumetric/gpu (summed over %d ranks): %ld steps, %ld pair uploads; seconds: "
+             "pair upload %.3f, pose upload %.3f, kernels %.3f, force download %.3f; device memory %.1f MiB\n",
+             comm->nprocs, t.num_compute, t.num_set_pairs, sum[0], sum[1], sum[2], sum[3], sum[4]);
+    if (screen) fputs(text, screen);
+    if (logfile) fputs(text, logfile);
+  }
+  poly_gpu_clear();
 #endif
+}
+
+void PairPolyhedralVolumetricGPU::gpu_error(const char *message)
+{
+  char text[320];
+  snprintf(text, sizeof text, "Pair polyhedral/volumetric/gpu: %s", message);
+  error->one(FLERR, text);
 }
 
 void PairPolyhedralVolumetricGPU::init_style()
@@ -43,6 +66,8 @@ void PairPolyhedralVolumetricGPU::init_style()
   PairPolyhedralVolumetric::init_style();
   if (poly_gpu_device_count() == 0)
     error->all(FLERR, "Pair polyhedral/volumetric/gpu: no usable CUDA GPU (use pair_style polyhedral/volumetric)");
+  // The device keeps history only within one run; a new run starts from LIGGGHTS' lists.
+  history_to_host();
   // Ranks on one node share its GPUs round-robin by node-local rank.
   MPI_Comm node;
   int node_rank = 0;
@@ -53,107 +78,126 @@ void PairPolyhedralVolumetricGPU::init_style()
   std::vector<const poly_shape *> shapes(count > 0 ? count : 1);
   for (int s = 1; s <= count; s++) shapes[s - 1] = &FixParticletemplatePolyhedron::find(lmp, s)->shape();
   char message[256];
-  if (poly_gpu_init(node_rank, count, &shapes[0], message, sizeof message) != 0) {
-    char text[320];
-    snprintf(text, sizeof text, "Pair polyhedral/volumetric/gpu: %s", message);
-    error->one(FLERR, text);
+  if (device_ready) {
+    // Shapes may have been added between runs: start the device over (history is back on the host).
+    poly_gpu_clear();
+    device_ready = false;
   }
+  if (poly_gpu_init(node_rank, count, &shapes[0], message, sizeof message) != 0) gpu_error(message);
   device_ready = true;
+  pairs_build = -1;
 #endif
 }
 
-void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
-{
 #ifdef POLY_HAVE_CUDA
-  const bool advance_history = begin_compute(eflag, vflag);
-
-  double **x = atom->x, **v = atom->v, **omega = atom->omega;
-  double **quaternion = atom->quaternion;
-  double *radius = atom->radius, *rmass = atom->rmass, *density = atom->density;
+// All pairs of the new neighbour list, with their history from LIGGGHTS.
+void PairPolyhedralVolumetricGPU::send_pairs()
+{
+  double *rmass = atom->rmass, *density = atom->density;
   int *type = atom->type, *shapetype = atom->shapetype;
-  const int ntypes = atom->ntypes;
-
+  const int nall = atom->nlocal + atom->nghost;
+  num_force_particles = force->newton_pair ? nall : atom->nlocal;
+  std::vector<poly_gpu_particle> particles(nall > 0 ? nall : 1);
+  for (int i = 0; i < nall; i++) {
+    particles[i].shape = shapetype[i] - 1;
+    particles[i].type = type[i];
+    particles[i].mass = rmass[i];
+    particles[i].negligible_volume = 1e-12 * rmass[i] / density[i];
+  }
   int inum = list->inum, *ilist = list->ilist, *numneigh = list->numneigh, **firstneigh = list->firstneigh;
-  int **first_touch = listgranhistory ? listgranhistory->firstneigh : NULL;
   double **first_history = listgranhistory ? listgranhistory->firstdouble : NULL;
-
-  // Candidates: pairs whose bounding spheres overlap; the rest are no contact.
-  pairs.clear();
   pair_i.clear();
+  pair_j.clear();
   pair_jj.clear();
   history.clear();
   for (int ii = 0; ii < inum; ii++) {
     int i = ilist[ii];
     for (int jj = 0; jj < numneigh[i]; jj++) {
-      int j = firstneigh[i][jj] & NEIGHMASK;
-      double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
-      double reach = radius[i] + radius[j];
-      if (dx * dx + dy * dy + dz * dz >= reach * reach) {
-        if (first_touch) {
-          first_touch[i][jj] = 0;
-          for (int d = 0; d < POLY_HISTORY_SIZE; d++) first_history[i][POLY_HISTORY_SIZE * jj + d] = 0.0;
-        }
-        continue;
-      }
-      poly_gpu_pair pair;
-      memset(&pair, 0, sizeof pair);
-      pair.shape_i = shapetype[i] - 1;
-      pair.shape_j = shapetype[j] - 1;
-      pair.material = type[i] * (ntypes + 1) + type[j];
-      for (int k = 0; k < 3; k++) {
-        pair.position_i[k] = x[i][k];
-        pair.position_j[k] = x[j][k];
-        pair.velocity_i[k] = v[i][k];
-        pair.velocity_j[k] = v[j][k];
-        pair.omega_i[k] = omega[i][k];
-        pair.omega_j[k] = omega[j][k];
-      }
-      for (int k = 0; k < 4; k++) {
-        pair.quaternion_i[k] = quaternion[i][k];
-        pair.quaternion_j[k] = quaternion[j][k];
-      }
-      pair.mass_i = rmass[i];
-      pair.mass_j = rmass[j];
-      double volume_i = rmass[i] / density[i], volume_j = rmass[j] / density[j];
-      pair.negligible_volume = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
-      pairs.push_back(pair);
       pair_i.push_back(i);
+      pair_j.push_back(firstneigh[i][jj] & NEIGHMASK);
       pair_jj.push_back(jj);
       for (int d = 0; d < POLY_HISTORY_SIZE; d++)
         history.push_back(first_history ? first_history[i][POLY_HISTORY_SIZE * jj + d] : 0.0);
     }
   }
-
-  int n = (int) pairs.size();
-  results.resize(n > 0 ? n : 1);
-  char message[256];
-  if (n > 0 && poly_gpu_compute(n, &pairs[0], &materials[0], (int) materials.size(), single_precision,
-                                tangential_history, damping, update->dt, advance_history, &history[0], &results[0],
-                                message, sizeof message) != 0) {
-    char text[320];
-    snprintf(text, sizeof text, "Pair polyhedral/volumetric/gpu: %s", message);
-    error->one(FLERR, text);
+  int n = (int) pair_i.size();
+  if (n == 0) {
+    pair_i.push_back(0);
+    pair_j.push_back(0);
+    history.assign(POLY_HISTORY_SIZE, 0.0);
   }
+  char message[256];
+  if (poly_gpu_set_pairs(nall, num_force_particles, &particles[0], n, &pair_i[0], &pair_j[0], &history[0],
+                         atom->ntypes, &materials[0], message, sizeof message) != 0)
+    gpu_error(message);
+  pair_i.resize(n);
+  pair_j.resize(n);
+  history.resize((size_t) POLY_HISTORY_SIZE * n);
+  pairs_build = neighbor->ncalls;
+  device_history_newer = false;
+}
+#endif
 
-  for (int p = 0; p < n; p++) {
-    int i = pair_i[p], jj = pair_jj[p];
-    int j = firstneigh[i][jj] & NEIGHMASK;
-    const poly_gpu_result &r = results[p];
-    if (first_touch) {
-      first_touch[i][jj] = r.contact;
-      for (int d = 0; d < POLY_HISTORY_SIZE; d++) first_history[i][POLY_HISTORY_SIZE * jj + d] = history[POLY_HISTORY_SIZE * p + d];
-    }
-    if (!r.contact) continue;
-    poly_contact_output out;
-    memset(&out, 0, sizeof out);
+void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
+{
+#ifdef POLY_HAVE_CUDA
+  const bool advance_history = begin_compute(eflag, vflag);
+  if (pairs_build != neighbor->ncalls) send_pairs();
+
+  double **x = atom->x, **v = atom->v, **omega = atom->omega, **quaternion = atom->quaternion;
+  const int nall = atom->nlocal + atom->nghost;
+  poly_gpu_motion *motion = poly_gpu_motion_buffer();
+  for (int i = 0; i < nall; i++) {
     for (int k = 0; k < 3; k++) {
-      out.force_j[k] = r.force_j[k];
-      out.torque_i[k] = r.torque_i[k];
-      out.torque_j[k] = r.torque_j[k];
-      out.tangential_force[k] = r.tangential_force[k];
+      motion[i].position[k] = x[i][k];
+      motion[i].velocity[k] = v[i][k];
+      motion[i].omega[k] = omega[i][k];
     }
-    out.normal_force = r.normal_force;
-    apply_contact(i, j, r.volume, r.depth, r.normal, r.centroid, out);
+    for (int k = 0; k < 4; k++) motion[i].quaternion[k] = quaternion[i][k];
+  }
+  poly_gpu_settings settings;
+  settings.precision = precision;
+  settings.tangential = tangential_history;
+  settings.damping = damping;
+  settings.advance_history = advance_history;
+  settings.dt = update->dt;
+
+  // The virial and contact records need each pair on the host; otherwise the
+  // GPU sums forces and torques per particle.
+  const bool per_pair = evflag || recording;
+  const int n = (int) pair_i.size();
+  if (per_pair) results.resize(n > 0 ? n : 1);
+  char message[256];
+  int num_contacts = 0;
+  if (poly_gpu_compute(&settings, per_pair ? &results[0] : NULL, &num_contacts, message, sizeof message) != 0)
+    gpu_error(message);
+  device_history_newer = true;
+
+  if (per_pair) {
+    int **firstneigh = list->firstneigh;
+    for (int p = 0; p < n; p++) {
+      const poly_gpu_result &r = results[p];
+      if (!r.contact) continue;
+      poly_contact_output out;
+      memset(&out, 0, sizeof out);
+      for (int k = 0; k < 3; k++) {
+        out.force_j[k] = r.force_j[k];
+        out.torque_i[k] = r.torque_i[k];
+        out.torque_j[k] = r.torque_j[k];
+        out.tangential_force[k] = r.tangential_force[k];
+      }
+      out.normal_force = r.normal_force;
+      apply_contact(pair_i[p], firstneigh[pair_i[p]][pair_jj[p]] & NEIGHMASK, r.volume, r.depth, r.normal,
+                    r.centroid, out);
+    }
+  } else {
+    const double *sums = poly_gpu_force_torque();
+    double **f = atom->f, **torque = atom->torque;
+    for (int i = 0; i < num_force_particles; i++)
+      for (int k = 0; k < 3; k++) {
+        f[i][k] += sums[6 * i + k];
+        torque[i][k] += sums[6 * i + 3 + k];
+      }
   }
 #else
   (void) eflag;
@@ -162,11 +206,35 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
 #endif
 }
 
+// The device's history and contact flags into LIGGGHTS' neighbour list, which
+// still holds the pairs they were sent from.
+void PairPolyhedralVolumetricGPU::history_to_host()
+{
+#ifdef POLY_HAVE_CUDA
+  if (!device_ready || !device_history_newer || !listgranhistory || pairs_build != neighbor->ncalls) return;
+  const int n = (int) pair_i.size();
+  contact.resize(n > 0 ? n : 1);
+  history.resize((size_t) POLY_HISTORY_SIZE * (n > 0 ? n : 1));
+  char message[256];
+  if (poly_gpu_get_history(&history[0], &contact[0], message, sizeof message) != 0) gpu_error(message);
+  int **first_touch = listgranhistory->firstneigh;
+  double **first_history = listgranhistory->firstdouble;
+  for (int p = 0; p < n; p++) {
+    int i = pair_i[p], jj = pair_jj[p];
+    first_touch[i][jj] = contact[p];
+    for (int d = 0; d < POLY_HISTORY_SIZE; d++)
+      first_history[i][POLY_HISTORY_SIZE * jj + d] = history[POLY_HISTORY_SIZE * p + d];
+  }
+  device_history_newer = false;
+#endif
+}
+
 double PairPolyhedralVolumetricGPU::memory_usage()
 {
   double bytes = PairPolyhedralVolumetric::memory_usage();
 #ifdef POLY_HAVE_CUDA
-  bytes += (double) pairs.capacity() * sizeof(poly_gpu_pair) + (double) results.capacity() * sizeof(poly_gpu_result);
+  bytes += (double) (pair_i.capacity() + pair_j.capacity() + pair_jj.capacity() + contact.capacity()) * sizeof(int) +
+           (double) history.capacity() * sizeof(double) + (double) results.capacity() * sizeof(poly_gpu_result);
   if (device_ready) bytes += (double) poly_gpu_bytes();
 #endif
   return bytes;

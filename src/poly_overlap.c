@@ -1,4 +1,4 @@
-/* Double and single precision instances of the overlap computation
+/* Double, single and mixed precision instances of the overlap computation
  * (poly_overlap_impl.h), shape views and workspaces. */
 #include "poly_overlap.h"
 
@@ -16,6 +16,14 @@
 #define POLY_FN(name) poly_##name##_f
 #include "poly_overlap_impl.h"
 #undef POLY_REAL
+#undef POLY_FN
+
+#define POLY_REAL float
+#define POLY_ACCUM double
+#define POLY_FN(name) poly_##name##_m
+#include "poly_overlap_impl.h"
+#undef POLY_REAL
+#undef POLY_ACCUM
 #undef POLY_FN
 
 poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
@@ -129,3 +137,4 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
 
 POLY_OVERLAP_ENTRY(_d)
 POLY_OVERLAP_ENTRY(_f)
+POLY_OVERLAP_ENTRY(_m)

@@ -28,8 +28,10 @@
  * result is the limit of the nearby generic configuration: finite, and
  * continuous in the poses.
  *
- * The same code is compiled in double (suffix _d) and single (suffix _f)
- * precision from poly_overlap_impl.h; poses and results are always double.
+ * The same code is compiled in double (suffix _d), single (suffix _f) and
+ * mixed (suffix _m: single geometry, double sums) precision from
+ * poly_overlap_impl.h; poses and results are always double, and the geometry
+ * is always relative to A's body frame.
  */
 #ifndef POLY_OVERLAP_H
 #define POLY_OVERLAP_H
@@ -87,6 +89,12 @@ typedef struct poly_overlap_result {
 
 POLY_OVERLAP_DECLARE(double, _d)
 POLY_OVERLAP_DECLARE(float, _f)
+/* Mixed precision works on single-precision shapes and workspaces. */
+typedef poly_shape_view_f poly_shape_view_m;
+typedef poly_overlap_workspace_f poly_overlap_workspace_m;
+
+/* Precision of the narrow phase, as the pair styles' `precision` keyword names it. */
+typedef enum poly_precision { POLY_PRECISION_DOUBLE = 0, POLY_PRECISION_SINGLE = 1, POLY_PRECISION_MIXED = 2 } poly_precision;
 
 /* View of a double-precision shape (no copy). */
 poly_shape_view_d poly_shape_view_of(const poly_shape *shape);
@@ -108,6 +116,8 @@ void poly_overlap_d(const poly_shape_view_d *a, const poly_pose *pose_a, const p
                     const poly_pose *pose_b, poly_overlap_workspace_d *ws, poly_overlap_result *result);
 void poly_overlap_f(const poly_shape_view_f *a, const poly_pose *pose_a, const poly_shape_view_f *b,
                     const poly_pose *pose_b, poly_overlap_workspace_f *ws, poly_overlap_result *result);
+void poly_overlap_m(const poly_shape_view_m *a, const poly_pose *pose_a, const poly_shape_view_m *b,
+                    const poly_pose *pose_b, poly_overlap_workspace_m *ws, poly_overlap_result *result);
 
 #ifdef __cplusplus
 }

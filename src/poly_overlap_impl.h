@@ -1,6 +1,8 @@
 /* Body of the overlap computation, written once for a scalar type.
  * Include with POLY_REAL (double or float) and POLY_FN(name) (name with a
- * precision suffix) defined; see poly_overlap.h for the method. Everything is
+ * precision suffix) defined, and optionally POLY_ACCUM, the type the volume,
+ * moment and area sums are accumulated in (default POLY_REAL; double with
+ * float geometry is the "mixed" precision); see poly_overlap.h for the method. Everything is
  * static inline, so the CUDA path can include it too. */
 #if !defined(POLY_REAL) || !defined(POLY_FN)
 #error "define POLY_REAL and POLY_FN before including poly_overlap_impl.h"
@@ -13,6 +15,12 @@
 
 typedef POLY_REAL POLY_FN(real);
 #define R POLY_FN(real)
+#ifdef POLY_ACCUM
+typedef POLY_ACCUM POLY_FN(accum);
+#else
+typedef POLY_REAL POLY_FN(accum);
+#endif
+#define ACC POLY_FN(accum)
 
 /* Fixed generic direction of the symbolic perturbation of B (body frame of A).
  * Irrational-looking components so that no mesh normal or edge of practical
@@ -227,10 +235,10 @@ POLY_INLINE void POLY_FN(segment_bounds)(const R *p0, const R *p1, R *low, R *hi
 
 /* Running sums of the signed tetrahedra (O, c, x1, x2). */
 typedef struct POLY_FN(accumulator) {
-  R volume6;     /* 6 V */
-  R moment24[3]; /* 24 V c */
-  R area_normal[3]; /* sum of area * unit normal over A's facets (eq. 4.19) */
-  R area;
+  ACC volume6;     /* 6 V */
+  ACC moment24[3]; /* 24 V c */
+  ACC area_normal[3]; /* sum of area * unit normal over A's facets (eq. 4.19) */
+  ACC area;
 } POLY_FN(accumulator);
 
 /* Segment (x1, x2) of the facet with unit normal `unit_normal` through `corner`.
@@ -238,24 +246,27 @@ typedef struct POLY_FN(accumulator) {
  * plane (the cusp point of eq. 5.8), not the corner: a corner of a large facet
  * can lie far from the overlap, and the tetrahedra would then be large and
  * cancel (in single precision a cube on a box 120 times its size lost its
- * centroid). `of_a`: a facet of A, which also counts for the area and eq. 4.19. */
+ * centroid). `of_a`: a facet of A, which also counts for the area and eq. 4.19.
+ * The tetrahedra are evaluated in the accumulation type: the sums cancel, so
+ * in mixed precision the float nodes are promoted before the products. */
 POLY_INLINE void POLY_FN(add_segment)(POLY_FN(accumulator) *acc, const R *corner, const R *unit_normal, const R *x1,
                                       const R *x2, int of_a)
 {
-  R offset = POLY_FN(dot)(unit_normal, corner);
-  R plane_point[3] = {offset * unit_normal[0], offset * unit_normal[1], offset * unit_normal[2]};
-  const R *unit_normal_of_a = of_a ? unit_normal : 0;
-  R v6 = POLY_FN(det)(plane_point, x1, x2);
+  ACC n[3] = {unit_normal[0], unit_normal[1], unit_normal[2]};
+  ACC c[3] = {corner[0], corner[1], corner[2]};
+  ACC y1[3] = {x1[0], x1[1], x1[2]}, y2[3] = {x2[0], x2[1], x2[2]};
+  ACC offset = n[0] * c[0] + n[1] * c[1] + n[2] * c[2];
+  ACC p[3] = {offset * n[0], offset * n[1], offset * n[2]};
+  ACC v6 = p[0] * (y1[1] * y2[2] - y1[2] * y2[1]) + p[1] * (y1[2] * y2[0] - y1[0] * y2[2]) +
+           p[2] * (y1[0] * y2[1] - y1[1] * y2[0]);
   acc->volume6 += v6;
-  for (int k = 0; k < 3; k++) acc->moment24[k] += v6 * (plane_point[k] + x1[k] + x2[k]);
-  if (unit_normal_of_a) {
-    R e1[3], e2[3], c[3];
-    POLY_FN(sub)(x1, plane_point, e1);
-    POLY_FN(sub)(x2, plane_point, e2);
-    POLY_FN(cross)(e1, e2, c);
-    R area = (R)0.5 * POLY_FN(dot)(unit_normal_of_a, c);
+  for (int k = 0; k < 3; k++) acc->moment24[k] += v6 * (p[k] + y1[k] + y2[k]);
+  if (of_a) {
+    ACC e1[3] = {y1[0] - p[0], y1[1] - p[1], y1[2] - p[2]}, e2[3] = {y2[0] - p[0], y2[1] - p[1], y2[2] - p[2]};
+    ACC cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    ACC area = (ACC)0.5 * (n[0] * cross[0] + n[1] * cross[1] + n[2] * cross[2]);
     acc->area += area;
-    for (int k = 0; k < 3; k++) acc->area_normal[k] += area * unit_normal_of_a[k];
+    for (int k = 0; k < 3; k++) acc->area_normal[k] += area * n[k];
   }
 }
 
@@ -693,3 +704,4 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
 }
 
 #undef R
+#undef ACC

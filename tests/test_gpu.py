@@ -73,12 +73,13 @@ def test_suffix_gpu_selects_the_gpu_style(run_deck, tmp_path):
 
 
 @needs_gpu
-@pytest.mark.parametrize("precision", ["double", "single"])
+@pytest.mark.parametrize("precision", ["double", "single", "mixed"])
 def test_gpu_and_cpu_agree_pair_by_pair(launcher, precision):
     """10^4 random overlapping pairs of every reference shape: V, centroid, normal, depth, forces,
     torques and history from the GPU against the host code; relative difference below 1e-10 in double
-    and 1e-4 in single (the driver exits non-zero above that; its header says which scale each
-    quantity is measured against, e.g. grazing overlaps below 1e-3 of the particle volume)."""
+    and 1e-4 in single and mixed (the driver exits non-zero above that; its header says which scale each
+    quantity is measured against, e.g. grazing overlaps below 1e-3 of the particle volume). The
+    per-particle force sums of the fast path must equal the per-pair forces exactly."""
     run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
                           "10000", precision], capture_output=True, text=True)
     print(run.stdout)
@@ -101,52 +102,83 @@ def thousand_particles(seed=3):
     return "".join(lines)
 
 
-def packing(pair, many=False):
+def packing(pair, many=False, records=True):
+    """records=False: no compute pair/polyhedral/local, so the GPU style takes its fast path (forces
+    summed on the device, history kept there between rebuilds) except on thermo steps."""
     width = 0.24 if many else 0.12
+    contacts = "compute contacts all pair/polyhedral/local\n" if records else ""
     return (decks.header(boundary="p p f", lo=0.0, hi=0.12, ntypes=2).replace(
         "region box block 0.0 0.12 0.0 0.12 0.0 0.12", f"region box block 0.0 {width} 0.0 {width} -0.01 0.5") +
         MATERIALS + templates() + pair + "pair_coeff * *\n" + (thousand_particles() if many else particles()) +
         "group moving type 1\nfix integrate moving nve/polyhedron\nfix gravity moving gravity 9.81 vector 0 0 -1\n"
-        "compute contacts all pair/polyhedral/local\ncompute erot all erotate/polyhedron\n"
-        "thermo_style custom step atoms ke c_erot c_contacts\nthermo_modify format float %.15g\nthermo 400\n"
+        + contacts + "compute erot all erotate/polyhedron\n"
+        "thermo_style custom step atoms ke c_erot" + (" c_contacts" if records else "") +
+        "\nthermo_modify format float %.15g\nthermo 400\n"
         "timestep 2e-5\n")
 
 
 @needs_gpu
-def test_gpu_packing_matches_cpu(run_deck, tmp_path):
-    """1000 particles, 2000 steps, CPU and GPU."""
-    cpu = run_deck(packing("pair_style polyhedral/volumetric\n", many=True) + "run 2000\n", workdir=tmp_path / "cpu")
-    gpu = run_deck(packing("pair_style polyhedral/volumetric/gpu\n", many=True) + "run 2000\n",
+@pytest.mark.parametrize("records", [True, False], ids=["per-pair", "fast"])
+def test_gpu_packing_matches_cpu(run_deck, tmp_path, records):
+    """1000 particles, 2000 steps, CPU and GPU. per-pair: with compute pair/polyhedral/local, so every
+    pair's result comes back to the host (and the contact counts are compared); fast: forces summed on
+    the device, the history staying there between the neighbour-list rebuilds of the run."""
+    cpu = run_deck(packing("pair_style polyhedral/volumetric\n", many=True, records=records) + "run 2000\n",
+                   workdir=tmp_path / "cpu")
+    gpu = run_deck(packing("pair_style polyhedral/volumetric/gpu\n", many=True, records=records) + "run 2000\n",
                    workdir=tmp_path / "gpu")
     assert cpu.returncode == 0, cpu.output
     assert gpu.returncode == 0, gpu.output
-    a = cpu.thermo("Step", "Atoms", "KinEng", "c_erot", "c_contacts")
-    b = gpu.thermo("Step", "Atoms", "KinEng", "c_erot", "c_contacts")
+    columns = ("Step", "Atoms", "KinEng", "c_erot") + (("c_contacts",) if records else ())
+    a = cpu.thermo(*columns)
+    b = gpu.thermo(*columns)
     assert a["Step"] == b["Step"] and a["Atoms"][-1] == b["Atoms"][-1] == 1000
-    print(f"contacts CPU {a['c_contacts']}")
-    assert max(a["c_contacts"]) >= 100
-    # Same double-precision code, but nvcc contracts other multiply-adds: round-off differences that
-    # colliding grains amplify, as between 1 and several MPI ranks (tests/test_pair_parallel.py).
-    assert a["c_contacts"] == b["c_contacts"], (a["c_contacts"], b["c_contacts"])
+    if records:
+        print(f"contacts CPU {a['c_contacts']}")
+        assert max(a["c_contacts"]) >= 100
+        # Same double-precision code, but nvcc contracts other multiply-adds: round-off differences that
+        # colliding grains amplify, as between 1 and several MPI ranks (tests/test_pair_parallel.py).
+        assert a["c_contacts"] == b["c_contacts"], (a["c_contacts"], b["c_contacts"])
+    else:
+        assert "pair uploads" in gpu.output, gpu.output  # the style's timing summary
     worst = max(abs(x - y) / max(abs(x), 1e-12) for column in ("KinEng", "c_erot") for x, y in zip(a[column], b[column]))
-    print(f"GPU vs CPU packing: largest relative energy difference {worst:.2e}")
+    print(f"GPU vs CPU packing ({'per-pair' if records else 'fast'} path): largest relative energy difference {worst:.2e}")
     assert worst <= 1e-6, worst
 
 
 @needs_gpu
-def test_gpu_history_survives_restart(run_deck, tmp_path):
+@pytest.mark.parametrize("records", [True, False], ids=["per-pair", "fast"])
+def test_gpu_history_survives_restart(run_deck, tmp_path, records):
     pair = "pair_style polyhedral/volumetric/gpu\n"
-    unbroken = run_deck(packing(pair) + "run 2400\nrun 2400\n", workdir=tmp_path / "unbroken")
-    first = run_deck(packing(pair) + "run 2400\nwrite_restart half.restart\n", workdir=tmp_path / "first")
+    deck = packing(pair, records=records)
+    unbroken = run_deck(deck + "run 2400\nrun 2400\n", workdir=tmp_path / "unbroken")
+    first = run_deck(deck + "run 2400\nwrite_restart half.restart\n", workdir=tmp_path / "first")
     assert unbroken.returncode == 0 and first.returncode == 0, unbroken.output + first.output
     resumed = ("atom_modify sort 0 0\nread_restart ../first/half.restart\nnewton off\ncommunicate single vel yes\n" +
-               MATERIALS + templates() + pair + "pair_coeff * *\n" +
-               packing(pair)[packing(pair).index("group moving"):] + "run 2400\n")
+               MATERIALS + templates() + pair + "pair_coeff * *\n" + deck[deck.index("group moving"):] + "run 2400\n")
     second = run_deck(resumed, workdir=tmp_path / "second")
     assert second.returncode == 0, second.output
-    whole = unbroken.thermo("Step", "KinEng", "c_contacts")
-    tail = second.thermo("Step", "KinEng", "c_contacts")
+    columns = ("Step", "KinEng") + (("c_contacts",) if records else ())
+    whole = unbroken.thermo(*columns)
+    tail = second.thermo(*columns)
     start = len(whole["Step"]) - 1 - whole["Step"][::-1].index(2400.0)
-    assert tail["c_contacts"] == whole["c_contacts"][start:]
+    if records:
+        assert tail["c_contacts"] == whole["c_contacts"][start:]
     worst = max(abs(x - y) / abs(y) for x, y in zip(tail["KinEng"], whole["KinEng"][start:]))
+    print(f"restart ({'per-pair' if records else 'fast'} path): largest relative kinetic energy difference {worst:.2e}")
     assert worst <= 1e-8, worst
+
+
+@needs_gpu
+def test_gpu_history_kept_on_device_matters(run_deck, tmp_path):
+    """The fast path's agreement above could hide lost history if friction did not matter here: the
+    same packing with tangential off must differ from it by far more than the 1e-6 tolerance."""
+    on = run_deck(packing("pair_style polyhedral/volumetric/gpu\n", many=True, records=False) + "run 2000\n",
+                  workdir=tmp_path / "on")
+    off = run_deck(packing("pair_style polyhedral/volumetric/gpu tangential off\n", many=True, records=False) +
+                   "run 2000\n", workdir=tmp_path / "off")
+    assert on.returncode == 0 and off.returncode == 0, on.output + off.output
+    a, b = on.thermo("KinEng"), off.thermo("KinEng")
+    worst = max(abs(x - y) / max(abs(x), 1e-12) for x, y in zip(a["KinEng"], b["KinEng"]))
+    print(f"tangential history on vs off: largest relative kinetic energy difference {worst:.2e}")
+    assert worst > 1e-3, worst

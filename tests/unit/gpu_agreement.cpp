@@ -1,8 +1,11 @@
 /* GPU vs CPU agreement of the narrow phase, pair by pair: for each reference
- * shape, `count` random overlapping pairs go through poly_gpu_compute and
- * through poly_overlap_d/f + poly_contact_evaluate on the host; prints the
- * worst relative difference of V, centroid, normal, depth, forces, torques
- * and history. Usage: gpu_agreement SHAPES_DIR COUNT double|single
+ * shape, `count` random overlapping pairs (each of two particles of its own)
+ * go through poly_gpu_compute and through poly_overlap_d/f/m +
+ * poly_contact_evaluate on the host; prints the worst relative difference of
+ * V, centroid, normal, depth, forces, torques and history. The per-particle
+ * sums of the fast path (no per-pair results) must equal the per-pair forces
+ * exactly, and its history the per-pair path's. Usage:
+ * gpu_agreement SHAPES_DIR COUNT double|single|mixed
  *
  * Scales: V and depth relative to themselves for overlaps above 1e-3 of the
  * particle volume (below that, relative to 1e-3 V_p: a grazing overlap's own
@@ -35,6 +38,13 @@ static void random_quaternion(unsigned long long *state, double q[4])
   poly_quat_normalize(q);
 }
 
+static double seconds_since(const struct timespec &start)
+{
+  struct timespec stop;
+  clock_gettime(CLOCK_MONOTONIC, &stop);
+  return (stop.tv_sec - start.tv_sec) + 1e-9 * (stop.tv_nsec - start.tv_nsec);
+}
+
 int main(int argc, char **argv)
 {
   if (argc != 4) return 2;
@@ -42,7 +52,9 @@ int main(int argc, char **argv)
                          "icosphere_1280.off", "rock_10.obj", "rock_40.obj", "rock_70.obj", "rock_1000.obj"};
   const int num_shapes = 10;
   int count = atoi(argv[2]);
-  int single = strcmp(argv[3], "single") == 0;
+  int precision = strcmp(argv[3], "single") == 0  ? POLY_PRECISION_SINGLE
+                  : strcmp(argv[3], "mixed") == 0 ? POLY_PRECISION_MIXED
+                                                  : POLY_PRECISION_DOUBLE;
   std::vector<poly_shape> shapes(num_shapes);
   std::vector<const poly_shape *> pointers(num_shapes);
   int max_vertices = 1, max_triangles = 1;
@@ -62,78 +74,132 @@ int main(int argc, char **argv)
     printf("FAIL %s\n", message);
     return 1;
   }
-  poly_material_pair material;
+  // One atom type: materials indexed type_i * 2 + type_j.
+  poly_material_pair material, materials[4];
   poly_material_pair_make(1e7, 0.25, 1e7, 0.25, poly_damping_beta_for_restitution(0.5), 0.5, &material);
+  for (int m = 0; m < 4; m++) materials[m] = material;
   poly_overlap_workspace_d ws_d;
   poly_overlap_workspace_f ws_f;
   poly_overlap_workspace_create_d(&ws_d, max_vertices, max_triangles);
   poly_overlap_workspace_create_f(&ws_f, max_vertices, max_triangles);
+  poly_gpu_settings settings;
+  settings.precision = precision;
+  settings.tangential = 1;
+  settings.damping = 1;
+  settings.dt = 1e-6;
 
   int failures = 0;
-  double tolerance = single ? 1e-4 : 1e-10;
+  double tolerance = precision == POLY_PRECISION_DOUBLE ? 1e-10 : 1e-4;
   for (int s = 0; s < num_shapes; s++) {
     unsigned long long state = 12345 + s;
-    std::vector<poly_gpu_pair> pairs(count);
-    std::vector<double> history(POLY_HISTORY_SIZE * count), host_history(POLY_HISTORY_SIZE * count);
+    std::vector<poly_gpu_particle> particles(2 * count);
+    std::vector<poly_gpu_motion> motion(2 * count);
+    std::vector<int> pair_i(count), pair_j(count);
+    std::vector<double> history(POLY_HISTORY_SIZE * count);
     for (int p = 0; p < count; p++) {
-      poly_gpu_pair &pair = pairs[p];
-      memset(&pair, 0, sizeof pair);
-      pair.shape_i = pair.shape_j = s;
+      poly_gpu_motion &a = motion[2 * p], &b = motion[2 * p + 1];
       double r = shapes[s].bounding_radius;
       for (int k = 0; k < 3; k++) {
-        pair.position_i[k] = 10.0 * uniform(&state);
-        pair.velocity_i[k] = uniform(&state) - 0.5;
-        pair.velocity_j[k] = uniform(&state) - 0.5;
-        pair.omega_i[k] = 20.0 * (uniform(&state) - 0.5);
-        pair.omega_j[k] = 20.0 * (uniform(&state) - 0.5);
+        a.position[k] = 10.0 * uniform(&state);
+        a.velocity[k] = uniform(&state) - 0.5;
+        b.velocity[k] = uniform(&state) - 0.5;
+        a.omega[k] = 20.0 * (uniform(&state) - 0.5);
+        b.omega[k] = 20.0 * (uniform(&state) - 0.5);
       }
       double direction[4];
       random_quaternion(&state, direction);
       double distance = r * (0.8 + 0.9 * uniform(&state));
-      for (int k = 0; k < 3; k++) pair.position_j[k] = pair.position_i[k] + distance * direction[k + 1];
-      random_quaternion(&state, pair.quaternion_i);
-      random_quaternion(&state, pair.quaternion_j);
-      pair.mass_i = pair.mass_j = 2500.0 * shapes[s].volume;
-      pair.negligible_volume = 1e-12 * shapes[s].volume;
+      for (int k = 0; k < 3; k++) b.position[k] = a.position[k] + distance * direction[k + 1];
+      random_quaternion(&state, a.quaternion);
+      random_quaternion(&state, b.quaternion);
+      for (int n = 2 * p; n <= 2 * p + 1; n++) {
+        particles[n].shape = s;
+        particles[n].type = 1;
+        particles[n].mass = 2500.0 * shapes[s].volume;
+        particles[n].negligible_volume = 1e-12 * shapes[s].volume;
+      }
+      pair_i[p] = 2 * p;
+      pair_j[p] = 2 * p + 1;
       for (int d = 0; d < 3; d++) history[POLY_HISTORY_SIZE * p + d] = 1e-3 * (uniform(&state) - 0.5);
       history[POLY_HISTORY_SIZE * p + 3] = 1e4;
       history[POLY_HISTORY_SIZE * p + 4] = 1.0;
     }
-    host_history = history;
+    std::vector<double> host_history = history, gpu_history(history.size()), fast_history(history.size());
+    std::vector<int> contact_flags(count);
     std::vector<poly_gpu_result> results(count);
-    // A first call without advancing history warms up (allocations); the second is timed and checked.
-    std::vector<double> warm_history = history;
-    struct timespec start, stop;
-    if (poly_gpu_compute(count, &pairs[0], &material, 1, single, 1, 1, 1e-6, 0, &warm_history[0], &results[0],
-                         message, sizeof message) != 0 ||
-        clock_gettime(CLOCK_MONOTONIC, &start) != 0 ||
-        poly_gpu_compute(count, &pairs[0], &material, 1, single, 1, 1, 1e-6, 1, &history[0], &results[0], message,
-                         sizeof message) != 0 ||
-        clock_gettime(CLOCK_MONOTONIC, &stop) != 0) {
+    std::vector<double> sums(6 * 2 * count);
+    int num_contacts = 0, fast_contacts = 0;
+    // Per-pair path, history advanced; then the fast path from the same start: a
+    // warm-up call (allocations) and a timed step.
+    struct timespec start;
+    double seconds = 0.0;
+    bool ok = poly_gpu_set_pairs(2 * count, 2 * count, &particles[0], count, &pair_i[0], &pair_j[0], &history[0], 1,
+                                 materials, message, sizeof message) == 0;
+    if (ok) {
+      memcpy(poly_gpu_motion_buffer(), &motion[0], sizeof(poly_gpu_motion) * motion.size());
+      settings.advance_history = 1;
+      ok = poly_gpu_compute(&settings, &results[0], &num_contacts, message, sizeof message) == 0 &&
+           poly_gpu_get_history(&gpu_history[0], &contact_flags[0], message, sizeof message) == 0 &&
+           poly_gpu_set_pairs(2 * count, 2 * count, &particles[0], count, &pair_i[0], &pair_j[0], &history[0], 1,
+                              materials, message, sizeof message) == 0;
+    }
+    if (ok) {
+      memcpy(poly_gpu_motion_buffer(), &motion[0], sizeof(poly_gpu_motion) * motion.size());
+      settings.advance_history = 0;
+      ok = poly_gpu_compute(&settings, NULL, &fast_contacts, message, sizeof message) == 0;
+      settings.advance_history = 1;
+      clock_gettime(CLOCK_MONOTONIC, &start);
+      ok = ok && poly_gpu_compute(&settings, NULL, &fast_contacts, message, sizeof message) == 0;
+      seconds = seconds_since(start);
+      if (ok) memcpy(&sums[0], poly_gpu_force_torque(), sizeof(double) * sums.size());
+      ok = ok && poly_gpu_get_history(&fast_history[0], &contact_flags[0], message, sizeof message) == 0;
+    }
+    if (!ok) {
       printf("FAIL %s\n", message);
       return 1;
     }
-    double seconds = (stop.tv_sec - start.tv_sec) + 1e-9 * (stop.tv_nsec - start.tv_nsec);
+    // The fast path: same contacts, same history, and each particle's sum is its one pair's share.
+    int fast_mismatches = fast_contacts != num_contacts;
+    for (int p = 0; p < count; p++) {
+      const poly_gpu_result &r = results[p];
+      for (int k = 0; k < 3; k++) {
+        double expected[4] = {r.contact ? -r.force_j[k] : 0.0, r.contact ? r.torque_i[k] : 0.0,
+                              r.contact ? r.force_j[k] : 0.0, r.contact ? r.torque_j[k] : 0.0};
+        double got[4] = {sums[12 * p + k], sums[12 * p + 3 + k], sums[12 * p + 6 + k], sums[12 * p + 9 + k]};
+        for (int c = 0; c < 4; c++) fast_mismatches += expected[c] != got[c];
+      }
+      for (int d = 0; d < POLY_HISTORY_SIZE; d++)
+        fast_mismatches += fast_history[POLY_HISTORY_SIZE * p + d] != gpu_history[POLY_HISTORY_SIZE * p + d];
+      fast_mismatches += contact_flags[p] != r.contact;
+    }
+    if (fast_mismatches) {
+      printf("FAIL shape %s: per-particle sums, contacts or history of the fast path differ from the per-pair path "
+             "in %d values\n", names[s], fast_mismatches);
+      failures++;
+    }
+
     poly_shape_view_d view_d = poly_shape_view_of(&shapes[s]);
     poly_shape_view_f view_f;
     poly_shape_view_make_f(&shapes[s], &view_f);
     double worst = 0.0;
     const char *worst_what = "-";
     int contacts = 0;
-    struct timespec host_start, host_stop;
+    struct timespec host_start;
     clock_gettime(CLOCK_MONOTONIC, &host_start);
     for (int p = 0; p < count; p++) {
-      const poly_gpu_pair &pair = pairs[p];
+      const poly_gpu_motion &a = motion[2 * p], &b = motion[2 * p + 1];
+      const poly_gpu_particle &body = particles[2 * p];
       poly_pose pose_i, pose_j;
-      memcpy(pose_i.position, pair.position_i, sizeof pose_i.position);
-      memcpy(pose_i.quaternion, pair.quaternion_i, sizeof pose_i.quaternion);
-      memcpy(pose_j.position, pair.position_j, sizeof pose_j.position);
-      memcpy(pose_j.quaternion, pair.quaternion_j, sizeof pose_j.quaternion);
+      memcpy(pose_i.position, a.position, sizeof pose_i.position);
+      memcpy(pose_i.quaternion, a.quaternion, sizeof pose_i.quaternion);
+      memcpy(pose_j.position, b.position, sizeof pose_j.position);
+      memcpy(pose_j.quaternion, b.quaternion, sizeof pose_j.quaternion);
       poly_overlap_result g;
-      if (single) poly_overlap_f(&view_f, &pose_i, &view_f, &pose_j, &ws_f, &g);
+      if (precision == POLY_PRECISION_SINGLE) poly_overlap_f(&view_f, &pose_i, &view_f, &pose_j, &ws_f, &g);
+      else if (precision == POLY_PRECISION_MIXED) poly_overlap_m(&view_f, &pose_i, &view_f, &pose_j, &ws_f, &g);
       else poly_overlap_d(&view_d, &pose_i, &view_d, &pose_j, &ws_d, &g);
-      int contact = g.volume > pair.negligible_volume && g.depth > 0.0;
-      double floor_volume = (single ? 1e-6 : 1e-12) * shapes[s].volume;
+      int contact = g.volume > body.negligible_volume && g.depth > 0.0;
+      double floor_volume = (precision == POLY_PRECISION_DOUBLE ? 1e-12 : 1e-6) * shapes[s].volume;
       if (contact != results[p].contact && (g.volume > floor_volume || results[p].volume > floor_volume)) {
         printf("FAIL shape %s pair %d: contact %d on the host, %d on the GPU\n", names[s], p, contact,
                results[p].contact);
@@ -149,8 +215,8 @@ int main(int argc, char **argv)
         in.normal[k] = g.normal[k];
         in.centroid[k] = g.centroid[k];
       }
-      poly_contact_input_set_bodies(&in, pair.position_i, pair.velocity_i, pair.omega_i, pair.mass_i, pair.position_j,
-                                    pair.velocity_j, pair.omega_j, pair.mass_j, 1e-6);
+      poly_contact_input_set_bodies(&in, a.position, a.velocity, a.omega, body.mass, b.position, b.velocity, b.omega,
+                                    body.mass, 1e-6);
       poly_contact_output out;
       poly_contact_evaluate(&in, &material, 1, 1, &host_history[POLY_HISTORY_SIZE * p], &out);
       const poly_gpu_result &r = results[p];
@@ -173,7 +239,7 @@ int main(int argc, char **argv)
           {"torque j x", out.torque_j[0], r.torque_j[0], force_scale * size, substantial},
           {"torque j y", out.torque_j[1], r.torque_j[1], force_scale * size, substantial},
           {"torque j z", out.torque_j[2], r.torque_j[2], force_scale * size, substantial},
-          {"history x", host_history[POLY_HISTORY_SIZE * p], history[POLY_HISTORY_SIZE * p], force_scale, substantial},
+          {"history x", host_history[POLY_HISTORY_SIZE * p], gpu_history[POLY_HISTORY_SIZE * p], force_scale, substantial},
       };
       for (size_t c = 0; c < sizeof checks / sizeof checks[0]; c++) {
         if (!checks[c].check) continue;
@@ -184,11 +250,10 @@ int main(int argc, char **argv)
         }
       }
     }
-    clock_gettime(CLOCK_MONOTONIC, &host_stop);
-    double host_seconds = (host_stop.tv_sec - host_start.tv_sec) + 1e-9 * (host_stop.tv_nsec - host_start.tv_nsec);
+    double host_seconds = seconds_since(host_start);
     printf("%-20s %s: %5d pairs, %5d contacts, worst relative difference %.2e (%s); GPU %.3g pairs/s "
-           "(transfers included), one CPU core %.3g pairs/s (same code, checks included)\n", names[s],
-           single ? "single" : "double", count, contacts, worst, worst_what, count / seconds, count / host_seconds);
+           "(one step: poses up, forces down), one CPU core %.3g pairs/s (same code, checks included)\n", names[s],
+           argv[3], count, contacts, worst, worst_what, count / seconds, count / host_seconds);
     if (worst > tolerance) failures++;
     if (contacts < count / 4) {
       printf("FAIL too few contacts\n");
@@ -196,6 +261,7 @@ int main(int argc, char **argv)
     }
     poly_shape_view_free_f(&view_f);
   }
+  printf("device memory %.1f MiB\n", poly_gpu_bytes() / 1048576.0);
   poly_gpu_clear();
   printf(failures ? "FAIL\n" : "OK\n");
   return failures ? 1 : 0;
