@@ -48,6 +48,7 @@ SOURCES = [os.path.join(ROOT, "src", name) for name in ("poly_overlap.c", "poly_
 SHIM_SOURCE = r"""
 #include <stdlib.h>
 #include "poly_overlap.h"
+#include "poly_halfspace.h"
 
 typedef struct shim_shape {
   poly_shape shape;
@@ -97,6 +98,17 @@ void shim_mesh(const void *handle, double *vertices, int *triangles)
   for (int i = 0; i < 3 * shape->num_triangles; i++) triangles[i] = shape->triangles[i];
 }
 
+static void shim_write_result(const poly_overlap_result *r, double *out)
+{
+  out[0] = r->volume;
+  for (int k = 0; k < 3; k++) { out[1 + k] = r->centroid[k]; out[4 + k] = r->normal[k]; }
+  out[7] = r->depth;
+  out[8] = r->area;
+  out[9] = r->num_nodes;
+  out[10] = r->num_inconsistent;
+  out[11] = r->filtered_out;
+}
+
 /* poses: position (3) and quaternion (4) each; out: volume, centroid (3), normal (3), depth,
  * area, num_nodes, num_inconsistent, filtered_out. */
 void shim_overlap(const void *a, const double *pose_a, const void *b, const double *pose_b, int single,
@@ -117,13 +129,17 @@ void shim_overlap(const void *a, const double *pose_a, const void *b, const doub
     workspace_d.use_filter = use_filter;
     poly_overlap_d(&sa->view_d, &pa, &sb->view_d, &pb, &workspace_d, &r);
   }
-  out[0] = r.volume;
-  for (int k = 0; k < 3; k++) { out[1 + k] = r.centroid[k]; out[4 + k] = r.normal[k]; }
-  out[7] = r.depth;
-  out[8] = r.area;
-  out[9] = r.num_nodes;
-  out[10] = r.num_inconsistent;
-  out[11] = r.filtered_out;
+  shim_write_result(&r, out);
+}
+
+/* The shape at `pose` against the wall solid {x : normal.x < offset}; out as shim_overlap. */
+void shim_halfspace(const void *a, const double *pose, const double *normal, double offset, double *out)
+{
+  double rotation[9];
+  poly_quat_to_matrix(pose + 3, rotation);
+  poly_overlap_result r;
+  poly_halfspace_overlap(&((const shim_shape *)a)->view_d, rotation, pose, normal, offset, &r);
+  shim_write_result(&r, out);
 }
 """
 
@@ -156,6 +172,8 @@ class Library:
         lib.shim_overlap.argtypes = [ctypes.c_void_p, DOUBLES, ctypes.c_void_p, DOUBLES, ctypes.c_int, ctypes.c_int,
                                      DOUBLES]
         lib.shim_overlap.restype = None
+        lib.shim_halfspace.argtypes = [ctypes.c_void_p, DOUBLES, DOUBLES, ctypes.c_double, DOUBLES]
+        lib.shim_halfspace.restype = None
         assert lib.shim_init(self.MAX_VERTICES, self.MAX_TRIANGLES) == 0
         self.shapes = {}
 
@@ -169,6 +187,14 @@ class Library:
         poses = [(ctypes.c_double * 7)(*[float(x) for x in list(p[0]) + list(p[1])]) for p in (pose_a, pose_b)]
         out = (ctypes.c_double * 12)()
         self.lib.shim_overlap(a.handle, poses[0], b.handle, poses[1], "dfm".index(precision), use_filter, out)
+        return Result(list(out))
+
+
+    def halfspace(self, a, pose, normal, offset):
+        """a at pose against the wall solid {x : normal.x < offset}."""
+        out = (ctypes.c_double * 12)()
+        self.lib.shim_halfspace(a.handle, (ctypes.c_double * 7)(*[float(x) for x in list(pose[0]) + list(pose[1])]),
+                                (ctypes.c_double * 3)(*[float(x) for x in normal]), float(offset), out)
         return Result(list(out))
 
 
@@ -803,3 +829,82 @@ def test_tiny_and_huge_particles(overlap_lib, scale, precision):
         assert abs(scaled.centroid[k] / scale - unit.centroid[k]) <= tolerance
         assert abs(scaled.normal[k] - unit.normal[k]) <= 10 * tolerance
     assert scaled.num_inconsistent == 0
+
+
+# ---------------------------------------------------------------------------------------------
+# half-space (plane wall): src/poly_halfspace.h
+
+def rotation_taking_z_to(normal):
+    """A unit quaternion whose rotation maps +z onto `normal`."""
+    z = np.array([0.0, 0.0, 1.0])
+    axis = np.cross(z, normal)
+    s, c = np.linalg.norm(axis), float(np.dot(z, normal))
+    if s < 1e-12:
+        return (1.0, 0.0, 0.0, 0.0) if c > 0 else (0.0, 1.0, 0.0, 0.0)
+    half = 0.5 * math.atan2(s, c)
+    return (math.cos(half), *(math.sin(half) * axis / s))
+
+
+@pytest.mark.parametrize("name", ["cube", "tetrahedron", "schoenhardt", "rock_40", "icosphere_320", "l_shape"])
+def test_halfspace_matches_reference(overlap_lib, shapes, errors, name):
+    """A particle in random orientation cut by a plane of random normal, 2..60% of its bounding radius
+    deep: V, centroid (1e-10 relative, / L), normal (exactly -n), depth (deepest vertex, 1e-12 L) and
+    area against the reference clipping of the particle by a box 40 x 80 x 120 whose top face is the
+    plane; at 10^3 L from the origin the same to 1e-9."""
+    shape, big = shapes[name], shapes["big_box"]
+    top = big.vertices[:, 2].max()
+    rng = np.random.default_rng(17)
+    size = shape.volume ** (1.0 / 3.0)
+    worst_volume = worst_centroid = worst_depth = worst_far = 0.0
+    for _ in range(12):
+        q, normal = random_quaternion(rng), random_direction(rng)
+        centre = rng.uniform(-0.5, 0.5, 3)
+        world = shape.world((centre, q))
+        lowest = (world @ normal).min()
+        offset = lowest + rng.uniform(0.02, 0.6) * shape.radius
+        q_box = rotation_taking_z_to(normal)
+        foot = centre + (offset - centre @ normal) * normal
+        box_position = foot - ref.quaternion_matrix(q_box) @ np.array([0.0, 0.0, top])
+        volume, centroid = reference(shape, (centre, q), big, (box_position, q_box))
+        result = overlap_lib.halfspace(shape, (centre, q), normal, offset)
+        assert volume > 0
+        worst_volume = max(worst_volume, abs(result.volume - volume) / volume)
+        worst_centroid = max(worst_centroid, np.abs(np.array(result.centroid) - centroid).max() / size)
+        assert np.abs(np.array(result.normal) + normal).max() == 0.0
+        worst_depth = max(worst_depth, abs(result.depth - (offset - lowest)) / size)
+        far = np.array([1e3, -2e3, 1.5e3]) * size
+        moved = overlap_lib.halfspace(shape, (centre + far, q), normal, offset + far @ normal)
+        worst_far = max(worst_far, abs(moved.volume - result.volume) / result.volume,
+                        np.abs(np.array(moved.centroid) - far - np.array(result.centroid)).max() / size)
+    errors.add("half-space wall V relative", "d", worst_volume)
+    errors.add("half-space wall centroid / L", "d", worst_centroid)
+    errors.add("half-space wall depth / L", "d", worst_depth)
+    errors.add("half-space wall 1e3 L away", "d", worst_far)
+    assert worst_volume < 1e-10 and worst_centroid < 1e-10 and worst_depth < 1e-12, \
+        (worst_volume, worst_centroid, worst_depth)
+    assert worst_far < 1e-9, worst_far
+
+
+def test_halfspace_closed_forms(overlap_lib, shapes):
+    """Unit cube (edge 1, centred) resting flat h deep: V = h, centroid at h/2 below the plane,
+    area = 1 + 4h; turned 45 degrees about x, edge down, h deep: a prism of volume h^2; a face exactly
+    on the plane, and the plane a hair below the lowest vertex: no overlap."""
+    cube = shapes["cube"]
+    edge = cube.volume ** (1.0 / 3.0)
+    up = (0.0, 0.0, 1.0)
+    for h in (1e-9, 1e-3, 0.1, 0.5, 0.99):
+        r = overlap_lib.halfspace(cube, ((0.3, -0.2, 0.5 * edge - h * edge), (1, 0, 0, 0)), up, 0.0)
+        assert abs(r.volume - h * edge ** 3) < 1e-12 * edge ** 3, (h, r.volume)
+        assert abs(r.centroid[2] + 0.5 * h * edge) < 1e-12 * edge and abs(r.centroid[0] - 0.3) < 1e-12
+        assert abs(r.area - (1 + 4 * h) * edge ** 2) < 1e-12 * edge ** 2
+        assert abs(r.depth - h * edge) < 1e-12 * edge
+    c = math.cos(math.pi / 8)
+    turned = (c, math.sin(math.pi / 8), 0.0, 0.0)  # 45 degrees about x: an edge points down
+    half_diagonal = edge / math.sqrt(2.0)
+    for h in (1e-3, 0.05, 0.2):
+        r = overlap_lib.halfspace(cube, ((0.0, 0.0, half_diagonal - h * edge), turned), up, 0.0)
+        assert abs(r.volume - (h * edge) ** 2 * edge) < 1e-12 * edge ** 3, (h, r.volume)
+        assert abs(r.centroid[2] + h * edge / 3.0) < 1e-12 * edge
+    for z in (0.5 * edge, 0.5 * edge + 1e-12 * edge):
+        r = overlap_lib.halfspace(cube, ((0.0, 0.0, z), (1, 0, 0, 0)), up, 0.0)
+        assert r.volume == 0.0 and r.depth == 0.0 and r.normal == [0.0, 0.0, 0.0]
