@@ -395,12 +395,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
       if (touch) touch[jj] = 1;
 
       poly_contact_input input;
-      input.volume = geometry.volume;
-      input.depth = geometry.depth;
-      for (int k = 0; k < 3; k++) {
-        input.normal[k] = geometry.normal[k];
-        input.centroid[k] = geometry.centroid[k];
-      }
+      poly_contact_input_set_geometry(&input, geometry.volume, geometry.depth, geometry.normal, geometry.centroid);
       poly_contact_input_set_bodies(&input, x[i], v[i], omega[i], rmass[i], x[j], v[j], omega[j], rmass[j],
                                     update->dt);
       double scratch[POLY_HISTORY_SIZE] = {0.0, 0.0, 0.0, 0.0, 0.0};

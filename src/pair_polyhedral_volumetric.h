@@ -45,6 +45,15 @@ class PairPolyhedralVolumetric : public Pair {
   void record_contacts(bool on) { recording = on; }
   const std::vector<PolyContactRecord> &recorded_contacts() const { return records; }
 
+  // For fix wall/polyhedral: the shapes and the effective material of a type pair.
+  const poly_shape_view_d &shape_view(int shapetype) const { return views_d[shapetype]; }
+  const poly_material_pair &material(int itype, int jtype) const
+  {
+    return materials[itype * (atom_ntypes + 1) + jtype];
+  }
+  bool tangential_history_on() const { return tangential_history; }
+  bool damping_on() const { return damping; }
+
   // Called by the contact-history fix before LIGGGHTS reads the history in the
   // neighbour list; a style that keeps history elsewhere (the GPU) puts it back.
   virtual void history_to_host() {}
@@ -75,10 +84,6 @@ class PairPolyhedralVolumetric : public Pair {
   void overlap(int i, int j, poly_overlap_result *result);
   void apply_contact(int i, int j, double volume, double depth, const double *normal, const double *centroid,
                      const poly_contact_output &out);
-  const poly_material_pair &material(int itype, int jtype) const
-  {
-    return materials[itype * (atom_ntypes + 1) + jtype];
-  }
   int atom_ntypes;
 };
 

@@ -68,6 +68,17 @@ typedef struct poly_contact_output {
 
 /* The two bodies of a contact input: positions, velocities, angular
  * velocities, masses (mass_j = 0: a wall) and the time step. */
+POLY_INLINE void poly_contact_input_set_geometry(poly_contact_input *in, double volume, double depth,
+                                                 const double *normal, const double *centroid)
+{
+  in->volume = volume;
+  in->depth = depth;
+  for (int k = 0; k < 3; k++) {
+    in->normal[k] = normal[k];
+    in->centroid[k] = centroid[k];
+  }
+}
+
 POLY_INLINE void poly_contact_input_set_bodies(poly_contact_input *in, const double *position_i, const double *velocity_i,
                                                const double *omega_i, double mass_i, const double *position_j,
                                                const double *velocity_j, const double *omega_j, double mass_j,

@@ -53,6 +53,7 @@
 #include "dump_polyhedron_vtk.h"
 #include "fix_contact_history_polyhedral.h"
 #include "fix_nve_polyhedron.h"
+#include "fix_wall_polyhedral.h"
 #include "fix_particletemplate_polyhedron.h"
 #include "pair_polyhedral_volumetric.h"
 #include "pair_polyhedral_volumetric_gpu.h"
@@ -118,6 +119,7 @@ void register_styles(LAMMPS *lmp)
   fixes["particletemplate/polyhedron"] = &create_fix<FixParticletemplatePolyhedron>;
   fixes[FixContactHistoryPolyhedral::creation_style()] = &create_fix<FixContactHistoryPolyhedral>;
   fixes["nve/polyhedron"] = &create_fix<FixNVEPolyhedron>;
+  fixes["wall/polyhedral"] = &create_fix<FixWallPolyhedral>;
   computes["erotate/polyhedron"] = &create_compute<ComputeERotatePolyhedron>;
   computes["property/polyhedron"] = &create_compute<ComputePropertyPolyhedron>;
   computes["pair/polyhedral/local"] = &create_compute<ComputePairPolyhedralLocal>;

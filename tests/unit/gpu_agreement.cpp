@@ -223,12 +223,7 @@ int main(int argc, char **argv)
       if (!contact || !results[p].contact) continue;
       contacts++;
       poly_contact_input in;
-      in.volume = g.volume;
-      in.depth = g.depth;
-      for (int k = 0; k < 3; k++) {
-        in.normal[k] = g.normal[k];
-        in.centroid[k] = g.centroid[k];
-      }
+      poly_contact_input_set_geometry(&in, g.volume, g.depth, g.normal, g.centroid);
       poly_contact_input_set_bodies(&in, a.position, a.velocity, a.omega, body.mass, b.position, b.velocity, b.omega,
                                     body.mass, 1e-6);
       poly_contact_output out;
