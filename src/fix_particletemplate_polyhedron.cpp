@@ -9,6 +9,7 @@
 #include "domain.h"
 #include "error.h"
 #include "force.h"
+#include "memory.h"
 #include "modify.h"
 
 using namespace LAMMPS_NS;
@@ -35,7 +36,7 @@ static char **base_keywords_first(int narg, char **arg)
 
 FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int narg, char **arg)
     : FixTemplateSphere(lmp, narg, base_keywords_first(narg, arg)),
-      shape_index_(0), density_(0.0), scale_(1.0), file_(NULL)
+      shape_index_(0), density_(0.0), scale_(1.0), file_(NULL), own_single_(NULL)
 {
   memset(&shape_, 0, sizeof shape_);
   parse_own_keywords(narg, arg);
@@ -133,18 +134,57 @@ unsigned int FixParticletemplatePolyhedron::generate_hash()
   return hash;
 }
 
-void FixParticletemplatePolyhedron::insertion_not_supported()
+// Insertion through fix particledistribution/discrete and fix insert/*: the
+// particles to insert carry this template's shape; their orientation comes from
+// the insertion fix.
+void FixParticletemplatePolyhedron::fill(ParticleToInsertPolyhedron *particle, int extra_groupbit, int distorder)
 {
-  error->fix_error(FLERR, this, "inserting polyhedral particles with fix insert/* is not available yet; "
-                                "place them with create_polyhedron");
+  particle->atom_type = atom_type;
+  particle->shape_index = shape_index_;
+  particle->radius_ins[0] = particle->r_bound_ins = shape_.bounding_radius;
+  particle->density_ins = density_;
+  particle->volume_ins = shape_.volume;
+  particle->mass_ins = density_ * shape_.volume;
+  for (int k = 0; k < 3; k++) particle->x_ins[0][k] = particle->v_ins[k] = particle->omega_ins[k] = 0.0;
+  particle->quaternion[0] = 1.0;
+  particle->quaternion[1] = particle->quaternion[2] = particle->quaternion[3] = 0.0;
+  particle->groupbit = groupbit | extra_groupbit;
+  particle->distorder = distorder;
 }
 
-void FixParticletemplatePolyhedron::init_ptilist(int, const bool, FixPropertyAtom *const) { insertion_not_supported(); }
-void FixParticletemplatePolyhedron::randomize_single() { insertion_not_supported(); }
-void FixParticletemplatePolyhedron::randomize_ptilist(int, int, int) { insertion_not_supported(); }
+void FixParticletemplatePolyhedron::init_ptilist(int n_random_max, const bool, FixPropertyAtom *const fix_release)
+{
+  if (pti_list) error->one(FLERR, "Fix particletemplate/polyhedron: insertion list set up twice");
+  n_pti_max = n_random_max;
+  pti_list = (ParticleToInsert **) memory->smalloc(n_pti_max * sizeof(ParticleToInsert *), "pti_list");
+  for (int i = 0; i < n_pti_max; i++) pti_list[i] = new ParticleToInsertPolyhedron(lmp, fix_release);
+}
+
+void FixParticletemplatePolyhedron::randomize_single()
+{
+  fill(single_particle(), 0, 0);
+}
+
+void FixParticletemplatePolyhedron::randomize_ptilist(int n_random, int distribution_groupbit, int distorder)
+{
+  for (int i = 0; i < n_random; i++)
+    fill(static_cast<ParticleToInsertPolyhedron *>(pti_list[i]), distribution_groupbit, distorder);
+}
+
 void FixParticletemplatePolyhedron::direct_set_ptlist(const int, const void *const, const int, const int)
 {
-  insertion_not_supported();
+  error->fix_error(FLERR, this, "fix insert/stream/predefined and other pre-defined insertion are not available "
+                                "for polyhedral particles; use fix insert/pack, insert/stream or insert/rate/region");
+}
+
+// FixTemplateSphere made a sphere to insert; replace it once with ours.
+ParticleToInsertPolyhedron *FixParticletemplatePolyhedron::single_particle()
+{
+  if (!own_single_) {
+    delete pti;
+    pti = own_single_ = new ParticleToInsertPolyhedron(lmp);
+  }
+  return own_single_;
 }
 
 FixParticletemplatePolyhedron *FixParticletemplatePolyhedron::find(LAMMPS *lmp, int shape_index)

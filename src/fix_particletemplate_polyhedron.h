@@ -3,9 +3,9 @@
  * Templates are numbered 1, 2, ... in the order they are defined; that number
  * is the per-particle `shape` of atom_style polyhedron. The class derives from
  * LIGGGHTS' FixTemplateSphere because fix particledistribution/discrete and
- * the fix insert styles treat every "particletemplate/" style as one; the insertion
- * methods report that polyhedral insertion is not available yet rather than
- * insert spheres. */
+ * the fix insert styles treat every "particletemplate/" style as one; its
+ * insertion methods hand them ParticleToInsertPolyhedron objects, which give
+ * inserted atoms this template's shape. */
 #ifdef FIX_CLASS
 #else
 
@@ -13,6 +13,7 @@
 #define LMP_FIX_PARTICLETEMPLATE_POLYHEDRON_H
 
 #include "fix_template_sphere.h"
+#include "particle_to_insert_polyhedron.h"
 #include "poly_shape.h"
 
 namespace LAMMPS_NS {
@@ -37,7 +38,7 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
   int number_spheres() { return 1; }
   unsigned int generate_hash();
 
-  // Insertion through fix insert/* (not available yet: clear error, no spheres).
+  // Insertion through fix particledistribution/discrete and fix insert/*.
   void init_ptilist(int, const bool, FixPropertyAtom *const);
   void randomize_single();
   void randomize_ptilist(int, int, int);
@@ -58,7 +59,9 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
 
   void parse_own_keywords(int narg, char **arg);
   void print_summary();
-  void insertion_not_supported();
+  ParticleToInsertPolyhedron *own_single_;
+  void fill(ParticleToInsertPolyhedron *particle, int extra_groupbit, int distorder);
+  ParticleToInsertPolyhedron *single_particle();
 };
 
 }

@@ -65,12 +65,6 @@ def test_inward_mesh_is_flipped_with_a_warning(run_deck):
     ("dump d all polyhedron/vtk 10 no_star.vtp\n", "needs a '*'"),
     (template_line("${SHAPES}/cube.stl") + template_line("${SHAPES}/rock_70.obj"), "cannot be redefined"),
     (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 1.0\n", "outside the simulation box"),
-    (template_line("${SHAPES}/cube.stl") +
-     "fix pdd all particledistribution/discrete 15485867 1 t 1.0\n"
-     "region r block 0.2 0.8 0.2 0.8 0.2 0.8\n"
-     "fix ins all insert/pack seed 32452843 distributiontemplate pdd insert_every once "
-     "overlapcheck yes particles_in_region 5 region r\nrun 1\n",
-     "inserting polyhedral particles with fix insert/* is not available yet"),
 ])
 def test_bad_command_is_an_error(run_deck, line, expected):
     result = run_deck(BOX + line)
