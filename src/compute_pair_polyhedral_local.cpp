@@ -21,6 +21,7 @@ ComputePairPolyhedralLocal::ComputePairPolyhedralLocal(LAMMPS *lmp, int &iarg, i
   if (narg != iarg) error->compute_error(FLERR, this, "takes no arguments");
   local_flag = 1;
   scalar_flag = 1;
+  timeflag = 1;  // output schedules the steps; the pair style records contacts only then
   extscalar = 1;
   size_local_cols = kColumns;
   size_local_rows = 0;
@@ -30,7 +31,7 @@ ComputePairPolyhedralLocal::ComputePairPolyhedralLocal(LAMMPS *lmp, int &iarg, i
 
 ComputePairPolyhedralLocal::~ComputePairPolyhedralLocal()
 {
-  if (pair && force->pair == pair) pair->record_contacts(false);
+  if (pair && force->pair == pair) pair->record_contacts(NULL);
   memory->destroy(array_local);
 }
 
@@ -38,12 +39,20 @@ void ComputePairPolyhedralLocal::init()
 {
   pair = dynamic_cast<PairPolyhedralVolumetric *>(force->pair);
   if (!pair) error->compute_error(FLERR, this, "requires pair_style polyhedral/volumetric");
-  pair->record_contacts(true);
+  pair->record_contacts(this);
+}
+
+void ComputePairPolyhedralLocal::require_current_records()
+{
+  if (pair->records_step() != update->ntimestep)
+    error->compute_error(FLERR, this, "contacts are recorded on the steps of thermo, dump and fix ave output "
+                                      "only; this use asked on another step");
 }
 
 void ComputePairPolyhedralLocal::compute_local()
 {
   invoked_local = update->ntimestep;
+  require_current_records();
   const std::vector<PolyContactRecord> &records = pair->recorded_contacts();
   int rows = (int) records.size();
   if (rows > capacity) {
@@ -71,6 +80,7 @@ void ComputePairPolyhedralLocal::compute_local()
 double ComputePairPolyhedralLocal::compute_scalar()
 {
   invoked_scalar = update->ntimestep;
+  require_current_records();
   double mine = (double) pair->recorded_contacts().size();
   MPI_Allreduce(&mine, &scalar, 1, MPI_DOUBLE, MPI_SUM, world);
   return scalar;

@@ -26,6 +26,7 @@ class ComputePairPolyhedralLocal : public Compute {
  private:
   class PairPolyhedralVolumetric *pair;
   int capacity;
+  void require_current_records();
 };
 
 }

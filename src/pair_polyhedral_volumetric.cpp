@@ -7,6 +7,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "compute.h"
 #include "error.h"
 #include "fix_property_global.h"
 #include "force.h"
@@ -33,7 +34,7 @@ PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
 #else
       precision(POLY_PRECISION_DOUBLE),
 #endif
-      recording(false), have_workspace(false), maxrad(NULL), fix_history(NULL), atom_ntypes(0)
+      recorder(NULL), recording(false), records_timestep(-1), have_workspace(false), maxrad(NULL), fix_history(NULL), atom_ntypes(0)
 {
   single_enable = 0;
   restartinfo = 1;
@@ -347,7 +348,11 @@ bool PairPolyhedralVolumetric::begin_compute(int eflag, int vflag)
   if (eflag || vflag) ev_setup(eflag, vflag);
   else evflag = vflag_fdotr = 0;
   computeflag = 1;
-  if (recording) records.clear();
+  recording = recorder && recorder->matchstep(update->ntimestep);
+  if (recording) {
+    records.clear();
+    records_timestep = update->ntimestep;
+  }
   return !update->setupflag;
 }
 

@@ -41,9 +41,12 @@ class PairPolyhedralVolumetric : public Pair {
   int computeflag;                  // read by the contact-history fix
   class NeighList *listgranhistory; // touch flags and history per neighbour
 
-  // compute pair/polyhedral/local switches recording on and reads the records.
-  void record_contacts(bool on) { recording = on; }
+  // compute pair/polyhedral/local registers itself (NULL: none) and reads the
+  // records, which are made only on the steps LIGGGHTS' output invokes it
+  // (its timeflag), so the GPU style keeps its fast path on the other steps.
+  void record_contacts(class Compute *compute) { recorder = compute; }
   const std::vector<PolyContactRecord> &recorded_contacts() const { return records; }
+  bigint records_step() const { return records_timestep; }
 
   // For fix wall/polyhedral: the shapes and the effective material of a type pair.
   const poly_shape_view_d &shape_view(int shapetype) const { return views_d[shapetype]; }
@@ -61,7 +64,9 @@ class PairPolyhedralVolumetric : public Pair {
  protected:
   bool tangential_history, damping;
   int precision;  // poly_precision
-  bool recording;
+  class Compute *recorder;
+  bool recording;               // on this step
+  bigint records_timestep;
   std::vector<PolyContactRecord> records;
 
   std::vector<poly_shape_view_d> views_d;  // indexed by shape number

@@ -84,6 +84,16 @@ def test_compute_needs_the_pair_style(run_deck):
     assert any("requires pair_style polyhedral/volumetric" in line for line in result.error_lines()), result.output
 
 
+def test_contact_records_follow_the_output_schedule(run_deck):
+    """Contacts are recorded only on the steps output asks for; fix print schedules its own steps too
+    (LIGGGHTS' timeflag mechanism), so a count printed on step 3, off the thermo schedule, is current."""
+    extra = ("compute c all pair/polyhedral/local\nthermo_style custom step c_c\nthermo 10\n"
+             "variable n equal c_c\nfix p all print 3 \"contacts at step 3: ${n}\"\n")
+    result = run_deck(deck(extra=extra).replace("run 1\n", "run 5\n"))
+    assert result.returncode == 0, result.output
+    assert "contacts at step 3: 0" in result.output, result.output
+
+
 def test_large_time_step_is_flagged(run_deck):
     text = deck(extra="timestep 1e-2\n")
     result = run_deck(text)
