@@ -290,13 +290,17 @@ void PairPolyhedralVolumetric::check_timestep()
   for (int i = 0; i < atom->nlocal; i++) {
     int t = atom->type[i];
     double e = youngs->compute_vector(t - 1), nu = poisson->compute_vector(t - 1);
-    double volume = atom->rmass[i] / atom->density[i];
+    // From the shape, not rmass: after read_data the masses are set only when
+    // atom_style polyhedron initialises, which LIGGGHTS does after the pair style.
+    FixParticletemplatePolyhedron *shape_template = FixParticletemplatePolyhedron::find(lmp, atom->shapetype[i]);
+    if (!shape_template) continue;
+    double volume = shape_template->shape().volume, mass = atom->density[i] * volume;
     double r = cbrt(3.0 * volume / (4.0 * M_PI));
     double shear = e / (2.0 * (1.0 + nu));
     double t_rayleigh = M_PI * r * sqrt(atom->density[i] / shear) / (0.1631 * nu + 0.8766);
     if (t_rayleigh < rayleigh) rayleigh = t_rayleigh;
     if (approach > 0.0) {
-      double m_eff = 0.5 * atom->rmass[i], r_eff = 0.5 * r, e_eff = e / (2.0 * (1.0 - nu * nu));
+      double m_eff = 0.5 * mass, r_eff = 0.5 * r, e_eff = e / (2.0 * (1.0 - nu * nu));
       double t_hertz = 2.87 * pow(m_eff * m_eff / (r_eff * e_eff * e_eff * approach), 0.2);
       if (t_hertz < hertz) hertz = t_hertz;
     }

@@ -101,3 +101,16 @@ def test_large_time_step_is_flagged(run_deck):
     assert any("Rayleigh time" in line for line in result.warning_lines()), result.output
     quiet = run_deck(deck(extra="timestep 1e-6\n"))
     assert not any("Rayleigh time" in line for line in quiet.warning_lines()), quiet.output
+
+
+def test_no_false_time_step_warning_after_read_data(run_deck, tmp_path):
+    """Particles read from a data file get their masses when atom_style polyhedron initialises, after
+    the pair style's time-step check; the check uses the shapes, so it does not see zero masses (it
+    used to warn of a Rayleigh time of 0)."""
+    first = run_deck(deck() + "write_data state.data\n", workdir=tmp_path / "first")
+    assert first.returncode == 0, first.output
+    second = run_deck(deck().replace("create_polyhedron cube 0.5 0.5 0.5\n", "").replace(
+        "create_box 1 box\n", "").replace("region box block 0.0 1.0 0.0 1.0 0.0 1.0\n", "read_data ../first/state.data\n"),
+        workdir=tmp_path / "second")
+    assert second.returncode == 0, second.output
+    assert not [w for w in second.warning_lines() if "time step" in w], second.warning_lines()
