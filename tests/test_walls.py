@@ -212,3 +212,23 @@ def test_icosphere_impact_on_a_plane_matches_liggghts_hertz_sphere_on_a_wall(run
     assert sphere_steps > 300 and a["v_z"][-1] > radius and b["f_floor[4]"][-1] == 0
     assert abs(shape_steps / sphere_steps - 1) < 0.02, (shape_steps, sphere_steps)
     assert abs(shape_e / sphere_e - 1) < 0.015, (shape_e, sphere_e)
+
+
+def test_wall_contact_crosses_ranks(run_deck, tmp_path):
+    """The cube slides down a plane tilted 35 degrees from x = -5 mm across the boundary x = 0 between
+    two ranks (processors 2 1 1): its wall contact and tangential spring migrate with it, and the run
+    follows the single-rank one (same arithmetic, so to round-off)."""
+    tilt = math.radians(35.0)
+    deck = scene("fix floor all wall/polyhedral primitive type 2 zplane 0.0\n", f"-0.005 0 {EDGE / 2}",
+                 gravity=f"{math.sin(tilt)!r} 0 {-math.cos(tilt)!r}", steps=15000)
+    one = run_deck(deck, workdir=tmp_path / "one")
+    two = run_deck(deck.replace("boundary f f f\n", "processors 2 1 1\nboundary f f f\n"), nprocs=2,
+                   workdir=tmp_path / "two")
+    assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
+    a, b = one.thermo("Step", "v_x", "v_vx", "f_floor[4]"), two.thermo("Step", "v_x", "v_vx", "f_floor[4]")
+    assert a["v_x"][0] < 0 < a["v_x"][-1], a["v_x"]  # it crossed x = 0
+    assert all(c == 1 for c in b["f_floor[4]"][1:])
+    worst = max(abs(x - y) for x, y in zip(a["v_x"], b["v_x"]))
+    print(f"\nwall contact across ranks: x from {a['v_x'][0]:.4f} to {a['v_x'][-1]:.4f} m, largest 1 vs 2 rank "
+          f"difference {worst:.1e} m")
+    assert worst < 1e-12, worst
