@@ -26,7 +26,7 @@ struct poly_gpu_result {};
 
 PairPolyhedralVolumetricGPU::PairPolyhedralVolumetricGPU(LAMMPS *lmp)
     : PairPolyhedralVolumetric(lmp), device_ready(false), pairs_build(-1), device_history_newer(false),
-      num_force_particles(0)
+      num_force_particles(0), sent_particles(0)
 {
 }
 
@@ -134,6 +134,7 @@ void PairPolyhedralVolumetricGPU::send_pairs()
   pair_j.resize(n);
   history.resize((size_t) POLY_HISTORY_SIZE * n);
   pairs_build = neighbor->ncalls;
+  sent_particles = nall;
   device_history_newer = false;
 }
 #endif
@@ -146,6 +147,11 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
 
   double **x = atom->x, **v = atom->v, **omega = atom->omega, **quaternion = atom->quaternion;
   const int nall = atom->nlocal + atom->nghost;
+  // LIGGGHTS adds and removes particles only where it rebuilds the lists; anything else would leave
+  // the device's pairs pointing at the wrong particles.
+  if (nall != sent_particles)
+    error->one(FLERR, "Pair polyhedral/volumetric/gpu: the number of particles changed without a neighbour-list "
+                      "rebuild");
   poly_gpu_motion *motion = poly_gpu_motion_buffer();
   for (int i = 0; i < nall; i++) {
     for (int k = 0; k < 3; k++) {

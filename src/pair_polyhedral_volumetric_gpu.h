@@ -38,6 +38,7 @@ class PairPolyhedralVolumetricGPU : public PairPolyhedralVolumetric {
   bigint pairs_build;                // neighbor->ncalls when the pairs were sent; -1: never
   bool device_history_newer;         // the GPU holds history the neighbour list lacks
   int num_force_particles;
+  int sent_particles;                // owned + ghost particles when the pairs were sent
   std::vector<int> pair_i, pair_j, pair_jj;  // where each candidate came from in the neighbour list
   std::vector<double> history;
   std::vector<int> contact;
