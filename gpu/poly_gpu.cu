@@ -351,7 +351,10 @@ extern "C" int poly_gpu_device_count(void)
 extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const *shapes, char *message,
                              size_t message_size)
 {
+  // A new run re-initialises; the timing summary covers the whole session.
+  poly_gpu_timing timing = state.timing;
   poly_gpu_clear();
+  state.timing = timing;
   int devices = poly_gpu_device_count();
   if (devices == 0) {
     snprintf(message, message_size, "no CUDA device is available");

@@ -31,7 +31,7 @@ ComputePairPolyhedralLocal::ComputePairPolyhedralLocal(LAMMPS *lmp, int &iarg, i
 
 ComputePairPolyhedralLocal::~ComputePairPolyhedralLocal()
 {
-  if (pair && force->pair == pair) pair->record_contacts(NULL);
+  if (pair && force->pair == pair) pair->record_contacts(this, false);
   memory->destroy(array_local);
 }
 
@@ -39,7 +39,7 @@ void ComputePairPolyhedralLocal::init()
 {
   pair = dynamic_cast<PairPolyhedralVolumetric *>(force->pair);
   if (!pair) error->compute_error(FLERR, this, "requires pair_style polyhedral/volumetric");
-  pair->record_contacts(this);
+  pair->record_contacts(this, true);
 }
 
 void ComputePairPolyhedralLocal::require_current_records()

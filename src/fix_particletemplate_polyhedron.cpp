@@ -73,6 +73,10 @@ FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int na
 
 FixParticletemplatePolyhedron::~FixParticletemplatePolyhedron()
 {
+  // FixTemplateSphere frees its particles to insert only for its own style name.
+  delete pti;
+  pti = NULL;
+  if (pti_list) delete_ptilist();
   poly_shape_free(&shape_);
   delete[] file_;
 }

@@ -107,6 +107,10 @@ void FixWallPolyhedral::init()
   int index = modify->find_fix(history_id);
   if (index < 0) error->all(FLERR, "Fix wall/polyhedral: its history fix was deleted");
   history = static_cast<FixPropertyAtom *>(modify->fix[index]);
+  // The wall's own switches decide which materials it needs, whatever the pair style's are.
+  use_tangential = tangential < 0 ? pair->tangential_history_on() : tangential;
+  use_damping = damping < 0 ? pair->damping_on() : damping;
+  PairPolyhedralVolumetric::material_table(lmp, style, use_damping, use_tangential, materials);
 }
 
 void FixWallPolyhedral::setup(int)
@@ -126,8 +130,6 @@ void FixWallPolyhedral::apply_walls(bool advance_history)
   double *rmass = atom->rmass, *density = atom->density, *radius = atom->radius;
   int *mask = atom->mask, *type = atom->type, *shapetype = atom->shapetype;
   const int nlocal = atom->nlocal;
-  const int use_tangential = tangential < 0 ? pair->tangential_history_on() : tangential;
-  const int use_damping = damping < 0 ? pair->damping_on() : damping;
   const double zero[3] = {0.0, 0.0, 0.0};
   force_summed = false;
   for (int k = 0; k < 4; k++) wall_force[k] = 0.0;
@@ -163,7 +165,7 @@ void FixWallPolyhedral::apply_walls(bool advance_history)
       law_history = scratch;
     }
     poly_contact_output out;
-    poly_contact_evaluate(&input, &pair->material(type[i], wall_type), use_tangential, use_damping, law_history, &out);
+    poly_contact_evaluate(&input, &materials[type[i] * (atom->ntypes + 1) + wall_type], use_tangential, use_damping, law_history, &out);
     for (int k = 0; k < 3; k++) {
       f[i][k] -= out.force_j[k];
       torque[i][k] += out.torque_i[k];

@@ -10,7 +10,10 @@
 #ifndef LMP_FIX_WALL_POLYHEDRAL_H
 #define LMP_FIX_WALL_POLYHEDRAL_H
 
+#include <vector>
+
 #include "fix.h"
+#include "poly_contact.h"
 
 namespace LAMMPS_NS {
 
@@ -35,6 +38,8 @@ class FixWallPolyhedral : public Fix {
   char *history_id;
   class FixPropertyAtom *history;
   class PairPolyhedralVolumetric *pair;
+  int use_tangential, use_damping;   // this wall's switches, resolved in init()
+  std::vector<poly_material_pair> materials;  // (ntypes+1)^2, read with this wall's switches
   double wall_force[4], wall_force_all[4];  // force on the wall (3), contacts
   bool force_summed;
 };

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <mpi.h>
 #include <string.h>
+#include <algorithm>
 #include <map>
 
 #include "atom.h"
@@ -34,7 +35,7 @@ PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
 #else
       precision(POLY_PRECISION_DOUBLE),
 #endif
-      recorder(NULL), recording(false), records_timestep(-1), have_workspace(false), maxrad(NULL), fix_history(NULL), atom_ntypes(0)
+      recording(false), records_timestep(-1), have_workspace(false), maxrad(NULL), fix_history(NULL), atom_ntypes(0)
 {
   single_enable = 0;
   restartinfo = 1;
@@ -180,21 +181,31 @@ void *PairPolyhedralVolumetric::extract(const char *name, int &dim)
 
 void PairPolyhedralVolumetric::load_materials()
 {
-  int n = atom->ntypes;
-  atom_ntypes = n;
-  const char *caller = force->pair_style;
+  atom_ntypes = atom->ntypes;
+  material_table(lmp, force->pair_style, damping, tangential_history, materials);
+}
+
+// Effective constants of every type pair from LIGGGHTS' fix property/global
+// tables, indexed i * (ntypes+1) + j. Only what the scene needs is read:
+// restitution only with damping, friction only with a tangential force (as
+// pair gran asks for its materials); the others default to e = 1, mu = 0.
+void PairPolyhedralVolumetric::material_table(LAMMPS *lmp, const char *caller, bool with_restitution,
+                                              bool with_friction, std::vector<poly_material_pair> &table)
+{
+  Modify *modify = lmp->modify;
+  Error *error = lmp->error;
+  const int n = lmp->atom->ntypes;
   FixPropertyGlobal *youngs = static_cast<FixPropertyGlobal *>(
       modify->find_fix_property("youngsModulus", "property/global", "peratomtype", n, 0, caller));
   FixPropertyGlobal *poisson = static_cast<FixPropertyGlobal *>(
       modify->find_fix_property("poissonsRatio", "property/global", "peratomtype", n, 0, caller));
-  // Model only what the scene needs: restitution only with damping, friction only with a tangential force.
-  FixPropertyGlobal *restitution = damping ? static_cast<FixPropertyGlobal *>(modify->find_fix_property(
-                                                 "coefficientRestitution", "property/global", "peratomtypepair", n, n, caller))
-                                           : NULL;
-  FixPropertyGlobal *friction = tangential_history ? static_cast<FixPropertyGlobal *>(modify->find_fix_property(
-                                                         "coefficientFriction", "property/global", "peratomtypepair", n, n, caller))
-                                                   : NULL;
-  materials.assign((n + 1) * (n + 1), poly_material_pair());
+  FixPropertyGlobal *restitution = with_restitution ? static_cast<FixPropertyGlobal *>(modify->find_fix_property(
+                                                          "coefficientRestitution", "property/global", "peratomtypepair", n, n, caller))
+                                                    : NULL;
+  FixPropertyGlobal *friction = with_friction ? static_cast<FixPropertyGlobal *>(modify->find_fix_property(
+                                                    "coefficientFriction", "property/global", "peratomtypepair", n, n, caller))
+                                              : NULL;
+  table.assign((n + 1) * (n + 1), poly_material_pair());
   std::map<double, double> beta_of_restitution;
   for (int i = 1; i <= n; i++) {
     double youngs_i = youngs->compute_vector(i - 1), poisson_i = poisson->compute_vector(i - 1);
@@ -208,7 +219,7 @@ void PairPolyhedralVolumetric::load_materials()
       if (!(mu >= 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: coefficientFriction must be >= 0");
       if (!beta_of_restitution.count(e)) beta_of_restitution[e] = poly_damping_beta_for_restitution(e);
       poly_material_pair_make(youngs_i, poisson_i, youngs_j, poisson_j, beta_of_restitution[e], mu,
-                              &materials[i * (n + 1) + j]);
+                              &table[i * (n + 1) + j]);
     }
   }
 }
@@ -345,6 +356,13 @@ void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result
     poly_overlap_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, &workspace_d, result);
 }
 
+void PairPolyhedralVolumetric::record_contacts(Compute *compute, bool on)
+{
+  std::vector<Compute *>::iterator found = std::find(recorders.begin(), recorders.end(), compute);
+  if (on && found == recorders.end()) recorders.push_back(compute);
+  if (!on && found != recorders.end()) recorders.erase(found);
+}
+
 // Common start of compute() for the CPU and GPU styles; returns whether the
 // tangential springs may advance (not in the set-up force evaluation).
 bool PairPolyhedralVolumetric::begin_compute(int eflag, int vflag)
@@ -352,7 +370,10 @@ bool PairPolyhedralVolumetric::begin_compute(int eflag, int vflag)
   if (eflag || vflag) ev_setup(eflag, vflag);
   else evflag = vflag_fdotr = 0;
   computeflag = 1;
-  recording = recorder && recorder->matchstep(update->ntimestep);
+  // Every recorder's schedule is consulted (matchstep also drops its past steps).
+  recording = false;
+  for (size_t c = 0; c < recorders.size(); c++)
+    if (recorders[c]->matchstep(update->ntimestep)) recording = true;
   if (recording) {
     records.clear();
     records_timestep = update->ntimestep;

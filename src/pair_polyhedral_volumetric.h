@@ -44,9 +44,13 @@ class PairPolyhedralVolumetric : public Pair {
   // compute pair/polyhedral/local registers itself (NULL: none) and reads the
   // records, which are made only on the steps LIGGGHTS' output invokes it
   // (its timeflag), so the GPU style keeps its fast path on the other steps.
-  void record_contacts(class Compute *compute) { recorder = compute; }
+  void record_contacts(class Compute *compute, bool on);
   const std::vector<PolyContactRecord> &recorded_contacts() const { return records; }
   bigint records_step() const { return records_timestep; }
+
+  // The effective materials of all type pairs (fix wall/polyhedral builds its own with its switches).
+  static void material_table(class LAMMPS *lmp, const char *caller, bool with_restitution, bool with_friction,
+                             std::vector<poly_material_pair> &table);
 
   // For fix wall/polyhedral: the shapes and the effective material of a type pair.
   const poly_shape_view_d &shape_view(int shapetype) const { return views_d[shapetype]; }
@@ -64,7 +68,7 @@ class PairPolyhedralVolumetric : public Pair {
  protected:
   bool tangential_history, damping;
   int precision;  // poly_precision
-  class Compute *recorder;
+  std::vector<class Compute *> recorders;
   bool recording;               // on this step
   bigint records_timestep;
   std::vector<PolyContactRecord> records;

@@ -94,6 +94,17 @@ def test_contact_records_follow_the_output_schedule(run_deck):
     assert "contacts at step 3: 0" in result.output, result.output
 
 
+def test_two_contact_computes_on_different_schedules(run_deck):
+    """Each compute pair/polyhedral/local gets its contacts on its own output steps (thermo every 10,
+    a dump every 7)."""
+    extra = ("compute c1 all pair/polyhedral/local\ncompute c2 all pair/polyhedral/local\n"
+             "thermo_style custom step c_c1\nthermo 10\n"
+             "dump d all local 7 contacts.txt c_c2[1] c_c2[2]\n")
+    result = run_deck(deck(extra=extra).replace("run 1\n", "run 30\n"))
+    assert result.returncode == 0, result.output[-2000:]
+    assert (result.workdir / "contacts.txt").read_text().count("ITEM: TIMESTEP") == 5  # steps 0, 7, 14, 21, 28
+
+
 def test_large_time_step_is_flagged(run_deck):
     text = deck(extra="timestep 1e-2\n")
     result = run_deck(text)

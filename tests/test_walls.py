@@ -82,14 +82,18 @@ def test_xplane_and_yplane_walls_hold_from_either_side(run_deck):
     assert abs(table["f_side[2]"][-1] / (mass * G * math.sin(tilt)) - 1) < 0.01, table["f_side[2]"][-1]
 
 
-@pytest.mark.parametrize("angle", [20.0, 35.0])
-def test_cube_on_a_tilted_plane_sticks_or_slides(run_deck, angle):
+@pytest.mark.parametrize("angle,pair_options,wall_options", [
+    (20.0, "", ""), (35.0, "", ""),
+    (20.0, " tangential off", "tangential history "),  # the wall's own switch, with its own friction table
+], ids=["20deg", "35deg", "20deg-wall-friction-only"])
+def test_cube_on_a_tilted_plane_sticks_or_slides(run_deck, angle, pair_options, wall_options):
     """As the block-on-slope test of tests/test_contact_physics.py, on a plane wall: gravity turns
     quasi-statically (0.1 s ramp after 0.05 s of settling) to `angle` from the wall normal, then holds
     for 0.45 s. tan(26.6 deg) = mu = 0.5: at 20 deg the cube must not creep (tangential spring of the
     particle's wall contact, kept per particle); at 35 deg it slides with a = g (sin - mu cos)."""
     tilt = math.radians(angle)
-    deck = scene("fix floor all wall/polyhedral primitive type 2 zplane 0.0\n", f"0 0 {EDGE / 2}", steps=5000)
+    deck = scene(f"fix floor all wall/polyhedral {wall_options}primitive type 2 zplane 0.0\n", f"0 0 {EDGE / 2}",
+                 steps=5000).replace("pair_style polyhedral/volumetric\n", f"pair_style polyhedral/volumetric{pair_options}\n")
     deck += ("unfix gravity\n"
              f"variable gx equal sin({angle}*PI/180*ramp(0,1))\n"
              f"variable gz equal -cos({angle}*PI/180*ramp(0,1))\n"
