@@ -6,7 +6,8 @@
 For each log (the main run: the thermo block with the most steps):
   * time per step over intervals: the wall time (thermo `CPU`, seconds since the run started) between thermo
     outputs, grouped into --rows intervals; contact pairs at the interval (mean of the thermo outputs in
-    it, both ends included); ranks x us per contact = ms/step x ranks / contacts x 1000 (core-us per contact on the CPU);
+    it, both ends included); ranks x us per contact = ms/step x ranks / contacts x 1000 (core-microseconds
+    per contact on the CPU);
   * the final state: kinetic energy, contact pairs, and the packing fraction of the bed from the final dump
     (post/final_*_N<N>_<floor>.dump, the `dump final` line of the log);
   * the GPU pair style's own timing line (pair/pose uploads, kernels, downloads, device memory), if any;
@@ -272,8 +273,8 @@ def main():
 
     print("\n## Summary\n")
     print("| run | particles (+floor) | ranks | steps | wall s | mean ms/step | ms/step last 10% | contacts at end "
-          "| bounding-sphere pairs at end | KE at end (J) | bed height H (mm) | phi_bed | phi_slab | airborne | Pair % | Neigh % | Comm % "
-          "| Modify % | Output % | Other % |")
+          "| bounding-sphere pairs at end | KE at end (J) | bed height H (mm) | phi_bed | phi_slab | airborne "
+          "| Pair % | Neigh % | Comm % | Modify % | Output % | Other % |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for run in runs:
         steps, cpu = column(run, "Step"), column(run, "CPU")
