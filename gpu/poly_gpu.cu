@@ -20,25 +20,7 @@
 
 #include "poly_overlap.h"
 
-#define POLY_REAL double
-#define POLY_FN(name) poly_##name##_d
-#include "poly_overlap_impl.h"
-#undef POLY_REAL
-#undef POLY_FN
-
-#define POLY_REAL float
-#define POLY_FN(name) poly_##name##_f
-#include "poly_overlap_impl.h"
-#undef POLY_REAL
-#undef POLY_FN
-
-#define POLY_REAL float
-#define POLY_ACCUM double
-#define POLY_FN(name) poly_##name##_m
-#include "poly_overlap_impl.h"
-#undef POLY_REAL
-#undef POLY_ACCUM
-#undef POLY_FN
+#include "poly_overlap_instances.h"
 
 namespace {
 

@@ -52,12 +52,8 @@ class PairPolyhedralVolumetric : public Pair {
   static void material_table(class LAMMPS *lmp, const char *caller, bool with_restitution, bool with_friction,
                              std::vector<poly_material_pair> &table);
 
-  // For fix wall/polyhedral: the shapes and the effective material of a type pair.
+  // For fix wall/polyhedral: the shapes and the switches.
   const poly_shape_view_d &shape_view(int shapetype) const { return views_d[shapetype]; }
-  const poly_material_pair &material(int itype, int jtype) const
-  {
-    return materials[itype * (atom_ntypes + 1) + jtype];
-  }
   bool tangential_history_on() const { return tangential_history; }
   bool damping_on() const { return damping; }
 
@@ -93,6 +89,10 @@ class PairPolyhedralVolumetric : public Pair {
   void overlap(int i, int j, poly_overlap_result *result);
   void apply_contact(int i, int j, double volume, double depth, const double *normal, const double *centroid,
                      const poly_contact_output &out);
+  const poly_material_pair &material(int itype, int jtype) const
+  {
+    return materials[itype * (atom_ntypes + 1) + jtype];
+  }
   int atom_ntypes;
 };
 

@@ -6,25 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define POLY_REAL double
-#define POLY_FN(name) poly_##name##_d
-#include "poly_overlap_impl.h"
-#undef POLY_REAL
-#undef POLY_FN
-
-#define POLY_REAL float
-#define POLY_FN(name) poly_##name##_f
-#include "poly_overlap_impl.h"
-#undef POLY_REAL
-#undef POLY_FN
-
-#define POLY_REAL float
-#define POLY_ACCUM double
-#define POLY_FN(name) poly_##name##_m
-#include "poly_overlap_impl.h"
-#undef POLY_REAL
-#undef POLY_ACCUM
-#undef POLY_FN
+#include "poly_overlap_instances.h"
 
 poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
 {

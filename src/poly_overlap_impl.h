@@ -393,6 +393,31 @@ POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, cons
   }
 }
 
+/* Where the edges of triangle `mine` (of B when mine_is_b) cross triangle
+ * `other`: each crossing is an end of the two triangles' chord, the chord's
+ * start when the edge, in its triangle's order, enters the other body (for a
+ * triangle of A) or leaves it (for a triangle of B). Counts every crossing in
+ * *found (more than two means the triangles do not cross in one chord) and
+ * keeps the first two. Edges are tested from their lower vertex index, so both
+ * triangles sharing an edge decide alike. */
+POLY_INLINE void POLY_FN(chord_ends)(const R *mine_vertices, const int *mine, int mine_is_b, const R *other_vertices,
+                                     const int *other, const R *other_plane, R ends[2][3], int starts[2], int *found)
+{
+  for (int k = 0; k < 3 && *found <= 2; k++) {
+    int from = mine[k], to = mine[k == 2 ? 0 : k + 1];
+    int low = from < to ? from : to, high = from < to ? to : from;
+    const R *p0 = mine_vertices + 3 * low, *p1 = mine_vertices + 3 * high;
+    R lambda;
+    int side = POLY_FN(segment_crosses_triangle)(p0, p1, mine_is_b, other_vertices, other, other_plane, &lambda);
+    if (!side) continue;
+    if (*found < 2) {
+      for (int i = 0; i < 3; i++) ends[*found][i] = p0[i] + lambda * (p1[i] - p0[i]);
+      starts[*found] = ((side > 0) != (from == low)) != mine_is_b;
+    }
+    (*found)++;
+  }
+}
+
 /* Intersection segment of triangle t of A with triangle s of B, if they cross. */
 POLY_INLINE void POLY_FN(accumulate_triangle_pair)(const POLY_FN(shape_view) *a, const R *va, const R *planes_a,
                                                    const R *normals_a, int t, const POLY_FN(shape_view) *b,
@@ -420,32 +445,8 @@ POLY_INLINE void POLY_FN(accumulate_triangle_pair)(const POLY_FN(shape_view) *a,
   R ends[2][3];
   int starts[2] = {0, 0};
   int found = 0;
-  for (int k = 0; k < 3 && found <= 2; k++) {
-    int from = ta[k], to = ta[k == 2 ? 0 : k + 1];
-    int low = from < to ? from : to, high = from < to ? to : from;
-    R lambda;
-    int side = POLY_FN(segment_crosses_triangle)(va + 3 * low, va + 3 * high, 0, vb, tb, planes_b + 4 * s, &lambda);
-    if (side) {
-      if (found < 2) {
-        for (int i = 0; i < 3; i++) ends[found][i] = va[3 * low + i] + lambda * (va[3 * high + i] - va[3 * low + i]);
-        starts[found] = (side > 0) != (from == low);
-      }
-      found++;
-    }
-  }
-  for (int k = 0; k < 3 && found <= 2; k++) {
-    int from = tb[k], to = tb[k == 2 ? 0 : k + 1];
-    int low = from < to ? from : to, high = from < to ? to : from;
-    R lambda;
-    int side = POLY_FN(segment_crosses_triangle)(vb + 3 * low, vb + 3 * high, 1, va, ta, planes_a + 4 * t, &lambda);
-    if (side) {
-      if (found < 2) {
-        for (int i = 0; i < 3; i++) ends[found][i] = vb[3 * low + i] + lambda * (vb[3 * high + i] - vb[3 * low + i]);
-        starts[found] = (side > 0) == (from == low);
-      }
-      found++;
-    }
-  }
+  POLY_FN(chord_ends)(va, ta, 0, vb, tb, planes_b + 4 * s, ends, starts, &found);
+  POLY_FN(chord_ends)(vb, tb, 1, va, ta, planes_a + 4 * t, ends, starts, &found);
   if (found != 2) return;
   const R *na = normals_a + 3 * t;
   const R *first = ends[0], *second = ends[1];

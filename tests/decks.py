@@ -1,4 +1,5 @@
 """Deck fragments shared by the LIGGGHTS-level tests."""
+import math
 
 HEADER = """\
 atom_style polyhedron
@@ -23,6 +24,22 @@ def header(boundary="p p p", lo=0.0, hi=1.0, ntypes=1, processors=None):
 
 def template(id, file, scale=1.0, density=2500.0, atom_type=1, seed=15485863):
     return TEMPLATE.format(id=id, file=file, scale=scale, density=density, atom_type=atom_type, seed=seed)
+
+
+def held_gravity(group, angle):
+    """fix gravity (ID gravity) of `group`, `angle` degrees from -z towards +x."""
+    tilt = math.radians(angle)
+    return f"fix gravity {group} gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\n"
+
+
+def tilted_gravity(group, angle, ramp_steps=10000):
+    """Turns the vertical fix gravity (ID gravity) of `group` quasi-statically, over `ramp_steps` steps,
+    to `angle` degrees from -z towards +x, and leaves it there; the deck goes on with its `run`."""
+    return ("unfix gravity\n"
+            f"variable gx equal sin({angle}*PI/180*ramp(0,1))\n"
+            f"variable gz equal -cos({angle}*PI/180*ramp(0,1))\n"
+            f"fix gravity {group} gravity 9.81 vector v_gx 0 v_gz\nrun {ramp_steps}\nunfix gravity\n" +
+            held_gravity(group, angle))
 
 
 def read_dump(path):

@@ -223,11 +223,8 @@ def test_block_on_slope_sticks_below_and_slides_above_the_friction_angle(run_dec
     x-z plane, then holds for 0.25 s. Friction angle: atan(0.5) = 26.57 deg."""
     tilt = math.radians(angle)
     deck = two_type_scene("box_1x2x3.off", 0.01, "-0.1 0 0.005")
-    deck += ("fix gravity mobile gravity 9.81 vector 0 0 -1\nrun 5000\nunfix gravity\n"
-             f"variable gx equal sin({angle}*PI/180*ramp(0,1))\n"
-             f"variable gz equal -cos({angle}*PI/180*ramp(0,1))\n"
-             "fix gravity mobile gravity 9.81 vector v_gx 0 v_gz\nrun 10000\nunfix gravity\n"
-             f"fix gravity mobile gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\nrun 25000\n")
+    deck += ("fix gravity mobile gravity 9.81 vector 0 0 -1\nrun 5000\n" + decks.tilted_gravity("mobile", angle) +
+             "run 25000\n")
     result = run_deck(deck)
     assert result.returncode == 0, result.output[-3000:]
     _, t, state, _, _ = block_series(result.workdir)

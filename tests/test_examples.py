@@ -3,6 +3,7 @@
 import os
 import shutil
 import subprocess
+import sys
 
 import pytest
 
@@ -15,7 +16,7 @@ def test_gravity_packing_smoke(tmp_path, launcher, wall):
     work = tmp_path / "gravity_packing"
     shutil.copytree(ROOT / "examples" / "gravity_packing", work, ignore=shutil.ignore_patterns("results", "post", "data"))
     (work / "post").mkdir()
-    made = subprocess.run(["python3", "make_packing.py", "300", "--outdir", "data"] +
+    made = subprocess.run([sys.executable, "make_packing.py", "300", "--outdir", "data"] +
                           (["--floor", "none"] if wall == "1" else []), cwd=work, capture_output=True, text=True)
     assert made.returncode == 0, made.stdout + made.stderr
     run = subprocess.run([str(ROOT / "build" / "bin" / "liggghts-poly"), "-in", "in.packing", "-var", "N", "300",

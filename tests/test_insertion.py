@@ -39,7 +39,8 @@ def scene(insertion, run="run 1\n"):
             "compute props all property/polyhedron shape quatw quati quatj quatk inertiax inertiay inertiaz\n"
             "thermo_style custom step atoms c_contacts\ntimestep 1e-5\n"
             "dump d all custom 1 particles.txt id type c_props[1] mass radius vz c_props[2] c_props[3] "
-            "c_props[4] c_props[5] c_props[6] c_props[7] c_props[8]\n" + run)
+            "c_props[4] c_props[5] c_props[6] c_props[7] c_props[8]\n"
+            "dump_modify d format \"%d %d" + " %.17g" * 11 + "\"\n" + run)
 
 
 def particles(result):
@@ -92,9 +93,9 @@ def test_insert_pack_polydisperse_mix(run_deck):
                re.finditer(r"shape (\d+) from .*?principal moments/density ([0-9.e+ -]+)\n", log)}
     for row in table:
         shape = int(row[2])
-        # (the dump prints 6 significant digits)
-        assert abs(row[3] - DENSITY * volumes[shape]) < 1e-5 * row[3]
-        assert abs(row[4] - radii[shape]) < 1e-5 * row[4]
+        # the log prints volume and radius to 10 significant digits, the moments to 6
+        assert abs(row[3] - DENSITY * volumes[shape]) < 1e-9 * row[3]
+        assert abs(row[4] - radii[shape]) < 1e-9 * row[4]
         assert np.allclose(row[10:13], DENSITY * np.array(moments[shape]), rtol=1e-5)
     quaternions = table[:, 6:10]
     assert np.allclose(np.linalg.norm(quaternions, axis=1), 1.0, atol=1e-12)

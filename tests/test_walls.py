@@ -94,11 +94,7 @@ def test_cube_on_a_tilted_plane_sticks_or_slides(run_deck, angle, pair_options, 
     tilt = math.radians(angle)
     deck = scene(f"fix floor all wall/polyhedral {wall_options}primitive type 2 zplane 0.0\n", f"0 0 {EDGE / 2}",
                  steps=5000).replace("pair_style polyhedral/volumetric\n", f"pair_style polyhedral/volumetric{pair_options}\n")
-    deck += ("unfix gravity\n"
-             f"variable gx equal sin({angle}*PI/180*ramp(0,1))\n"
-             f"variable gz equal -cos({angle}*PI/180*ramp(0,1))\n"
-             "fix gravity all gravity 9.81 vector v_gx 0 v_gz\nrun 10000\nunfix gravity\n"
-             f"fix gravity all gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\nthermo 200\nrun 45000\n")
+    deck += decks.tilted_gravity("all", angle) + "thermo 200\nrun 45000\n"
     result = run_deck(deck)
     assert result.returncode == 0, result.output[-3000:]
     table = result.thermo("Step", "v_x", "v_vx")
@@ -148,11 +144,9 @@ def test_wall_history_survives_a_restart(run_deck, tmp_path):
     """The cube held by friction on a 20 deg tilted plane, restarted mid-hold: the tangential spring
     comes back from the restart file (fix property/atom of the wall), so the resumed run follows the
     unbroken one; without the spring the cube would slip on resuming."""
-    tilt = math.radians(20.0)
-    gravity = f"fix gravity all gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\n"
+    gravity = decks.held_gravity("all", 20.0)
     setup = scene("fix floor all wall/polyhedral primitive type 2 zplane 0.0\n", f"0 0 {EDGE / 2}", steps=5000)
-    ramp = ("unfix gravity\nvariable gx equal sin(20*PI/180*ramp(0,1))\nvariable gz equal -cos(20*PI/180*ramp(0,1))\n"
-            "fix gravity all gravity 9.81 vector v_gx 0 v_gz\nrun 10000\nunfix gravity\n" + gravity + "run 10000\n")
+    ramp = decks.tilted_gravity("all", 20.0) + "run 10000\n"
     unbroken = run_deck(setup + ramp + "run 5000\n", workdir=tmp_path / "unbroken")
     first = run_deck(setup + ramp + "write_restart half.restart\n", workdir=tmp_path / "first")
     assert unbroken.returncode == 0 and first.returncode == 0, unbroken.output[-2000:] + first.output[-2000:]

@@ -132,36 +132,30 @@ def collision_deck(shape, offset=0.0, restitution=0.8, friction=0.5, dt=2e-6, st
     return deck
 
 
-def read_state(path):
-    """{step: {id: [x y z vx vy vz wx wy wz]}} from the every-step dump custom."""
+def _dump_frames(path, parse_rows):
+    """{step: parse_rows(row lines)} for every snapshot of a LIGGGHTS dump file."""
     lines = pathlib.Path(path).read_text().splitlines()
     frames, i = {}, 0
     while i < len(lines):
         if lines[i] == "ITEM: TIMESTEP":
             step, count = int(lines[i + 1]), int(lines[i + 3])
-            rows = {}
-            for line in lines[i + 9:i + 9 + count]:
-                words = line.split()
-                rows[int(words[0])] = [float(w) for w in words[1:]]
-            frames[step] = rows
+            frames[step] = parse_rows(lines[i + 9:i + 9 + count])
             i += 9 + count
         else:
             i += 1
     return frames
+
+
+def read_state(path):
+    """{step: {id: [x y z vx vy vz wx wy wz]}} from the every-step dump custom."""
+    def rows(lines):
+        return {int(line.split()[0]): [float(w) for w in line.split()[1:]] for line in lines}
+    return _dump_frames(path, rows)
 
 
 def read_local(path):
     """{step: [rows of floats]} from a `dump local` file."""
-    lines = pathlib.Path(path).read_text().splitlines()
-    frames, i = {}, 0
-    while i < len(lines):
-        if lines[i] == "ITEM: TIMESTEP":
-            step, count = int(lines[i + 1]), int(lines[i + 3])
-            frames[step] = [[float(w) for w in line.split()] for line in lines[i + 9:i + 9 + count]]
-            i += 9 + count
-        else:
-            i += 1
-    return frames
+    return _dump_frames(path, lambda lines: [[float(w) for w in line.split()] for line in lines])
 
 
 def kinetic_energies(log_path):
