@@ -40,27 +40,56 @@ void FixNVEPolyhedron::reset_dt()
   dtf = 0.5 * update->dt * force->ftm2v;
 }
 
+// Both integrate steps run once per particle and step, so they are written for speed.
+// Particles with angular momentum are rotated in blocks of POLY_ROTATION_BLOCK
+// (poly_free_rotation_block: the NO_SQUISH splitting in structure-of-arrays form, with
+// the inverse moments formed once, polynomial sin/cos of the small sub-rotation angles
+// and no rotation matrix for the conjugate momentum); a particle without angular
+// momentum (L = 0 exactly: q stays, omega = 0) skips the rotation. All of it equals
+// poly_free_rotation and poly_angmom_to_omega to round-off.
+static inline bool zero_vector(const double *a)
+{
+  return a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0;
+}
+
 void FixNVEPolyhedron::initial_integrate(int)
 {
   double **x = atom->x, **v = atom->v, **f = atom->f;
   double **angmom = atom->angmom, **torque = atom->torque, **omega = atom->omega;
   double **quaternion = atom->quaternion, **inertia = atom->inertia;
-  double *rmass = atom->rmass;
-  int *mask = atom->mask;
+  const double *rmass = atom->rmass;
+  const int *mask = atom->mask;
   int nlocal = atom->nlocal;
   if (igroup == atom->firstgroup) nlocal = atom->nfirst;
+  const double dtv = this->dtv, dtf = this->dtf;
 
+  double *block_q[POLY_ROTATION_BLOCK], *block_omega[POLY_ROTATION_BLOCK];
+  const double *block_moments[POLY_ROTATION_BLOCK], *block_angmom[POLY_ROTATION_BLOCK];
+  int count = 0;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    double dtfm = dtf / rmass[i];
+    double *__restrict xi = x[i], *__restrict vi = v[i], *__restrict li = angmom[i];
+    const double *__restrict fi = f[i], *__restrict ti = torque[i];
+    const double dtfm = dtf / rmass[i];
     for (int k = 0; k < 3; k++) {
-      v[i][k] += dtfm * f[i][k];
-      x[i][k] += dtv * v[i][k];
-      angmom[i][k] += dtf * torque[i][k];
+      vi[k] += dtfm * fi[k];
+      xi[k] += dtv * vi[k];
+      li[k] += dtf * ti[k];
     }
-    poly_free_rotation(quaternion[i], inertia[i], angmom[i], dtv);
-    poly_angmom_to_omega(quaternion[i], inertia[i], angmom[i], omega[i]);
+    if (zero_vector(li)) {
+      omega[i][0] = omega[i][1] = omega[i][2] = 0.0;
+      continue;
+    }
+    block_q[count] = quaternion[i];
+    block_moments[count] = inertia[i];
+    block_angmom[count] = li;
+    block_omega[count] = omega[i];
+    if (++count == POLY_ROTATION_BLOCK) {
+      poly_free_rotation_block(count, block_q, block_moments, block_angmom, block_omega, dtv);
+      count = 0;
+    }
   }
+  if (count) poly_free_rotation_block(count, block_q, block_moments, block_angmom, block_omega, dtv);
 }
 
 void FixNVEPolyhedron::final_integrate()
@@ -68,18 +97,26 @@ void FixNVEPolyhedron::final_integrate()
   double **v = atom->v, **f = atom->f;
   double **angmom = atom->angmom, **torque = atom->torque, **omega = atom->omega;
   double **quaternion = atom->quaternion, **inertia = atom->inertia;
-  double *rmass = atom->rmass;
-  int *mask = atom->mask;
+  const double *rmass = atom->rmass;
+  const int *mask = atom->mask;
   int nlocal = atom->nlocal;
   if (igroup == atom->firstgroup) nlocal = atom->nfirst;
+  const double dtf = this->dtf;
 
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    double dtfm = dtf / rmass[i];
-    for (int k = 0; k < 3; k++) {
-      v[i][k] += dtfm * f[i][k];
-      angmom[i][k] += dtf * torque[i][k];
+    double *__restrict vi = v[i], *__restrict li = angmom[i];
+    const double *__restrict fi = f[i], *__restrict ti = torque[i];
+    double *__restrict wi = omega[i];
+    const double dtfm = dtf / rmass[i];
+    for (int k = 0; k < 3; k++) vi[k] += dtfm * fi[k];
+    // L stays in registers (a vector reload of freshly stored scalars stalls)
+    const double l0 = li[0] + dtf * ti[0], l1 = li[1] + dtf * ti[1], l2 = li[2] + dtf * ti[2];
+    li[0] = l0; li[1] = l1; li[2] = l2;
+    if (l0 == 0.0 && l1 == 0.0 && l2 == 0.0) {
+      wi[0] = wi[1] = wi[2] = 0.0;
+      continue;
     }
-    poly_angmom_to_omega(quaternion[i], inertia[i], angmom[i], omega[i]);
+    poly_angmom_to_omega_fast(quaternion[i], inertia[i], l0, l1, l2, wi);
   }
 }

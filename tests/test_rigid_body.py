@@ -137,6 +137,66 @@ def test_torque_free_asymmetric_top(run_deck):
     assert np.max(np.abs(body_omega - sampled[:len(body_omega)])) < 0.05 * omega_body[1]
 
 
+def quat_multiply(a, b):
+    return np.array([a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+                     a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+                     a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+                     a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]])
+
+
+def test_principal_axis_spins_of_many_particles_are_exact(run_deck):
+    """A spin about a body principal axis is a steady rotation, and NO_SQUISH turns it
+    exactly: q(t) = q0 (cos wt/2, sin wt/2 e_k). Eleven particles, so that the integrator's
+    blocks of particles are full and partial, with one not spinning (q stays, omega = 0),
+    spins about all three axes, and one rate whose sub-rotation angle (0.2 rad) is beyond
+    the polynomial sin/cos range."""
+    steps, dt = 1000, 1e-3
+    spins = [(1, 3.0), (3, 1.0), (2, 2.0), (0, 0.0), (3, 7.0), (1, 40.0), (3, 60.0), (2, 5.0),
+             (1, 400.0), (3, 150.0), (1, -25.0)]
+    rng = np.random.default_rng(3)
+    deck = (decks.header(boundary="f f f", lo=-3.0, hi=3.0) +
+            decks.template("box", "box_1x2x3.off", scale=SCALE, density=DENSITY))
+    initial = []
+    for n, (axis, rate) in enumerate(spins):
+        q0 = rng.normal(size=4)
+        q0 /= np.linalg.norm(q0)
+        omega_body = np.zeros(3)
+        if axis:
+            omega_body[axis - 1] = rate
+        omega_world = rotation_matrix(q0) @ omega_body
+        initial.append((q0, omega_body))
+        deck += ("create_polyhedron box %.17g 0 0 quat %.17g %.17g %.17g %.17g omega %.17g %.17g %.17g\n"
+                 % ((-2.5 + 0.5 * n,) + tuple(q0) + tuple(omega_world)))
+    deck += ("fix integrate all nve/polyhedron\n"
+             "compute orientation all property/polyhedron quatw quati quatj quatk\n"
+             f"timestep {dt}\n"
+             f"dump state all custom {steps} state.txt id omegax omegay omegaz "
+             "c_orientation[1] c_orientation[2] c_orientation[3] c_orientation[4]\n"
+             "dump_modify state format \"%d" + " %.17g" * 7 + "\"\n"
+             f"run {steps}\n")
+    result = run_deck(deck)
+    assert result.returncode == 0, result.output
+    snapshots = decks.read_all_dump_snapshots(result.workdir / "state.txt")
+    (first, _, start), (last, _, rows) = snapshots[0], snapshots[-1]
+    assert (first, last) == (0, steps)
+    t = steps * dt
+    for n, (axis, rate) in enumerate(spins):
+        q0, omega_body = initial[n]
+        values = rows[n + 1]
+        q = np.array(values[4:8])
+        if not axis:
+            assert np.max(np.abs(q - np.array(start[n + 1][4:8]))) < 1e-15, (q, start[n + 1])
+            assert not np.any(np.array(values[1:4])), values
+            continue
+        turn = np.zeros(4)
+        turn[0] = math.cos(0.5 * rate * t)
+        turn[axis] = math.sin(0.5 * rate * t)
+        expected_q = quat_multiply(q0, turn)
+        assert np.max(np.abs(q - expected_q)) < 1e-11, (n, q, expected_q)
+        expected_omega = rotation_matrix(expected_q) @ omega_body
+        assert np.max(np.abs(np.array(values[1:4]) - expected_omega)) < 1e-11 * abs(rate), (n, values, expected_omega)
+
+
 def test_erotate_matches_half_omega_dot_l_for_arbitrary_orientation(run_deck):
     mass, moments = box_moments()
     q = np.array([0.8, 0.3, -0.4, 0.34])
