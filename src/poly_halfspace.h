@@ -29,7 +29,7 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
                                         const double position[3], const double plane_normal[3], double plane_offset,
                                         poly_overlap_result *result)
 {
-  result->volume = result->depth = result->area = 0.0;
+  result->volume = result->depth = result->area = result->projected_area = 0.0;
   for (int k = 0; k < 3; k++) result->centroid[k] = result->normal[k] = 0.0;
   result->num_nodes = result->num_inconsistent = result->filtered_out = 0;
 
@@ -44,7 +44,7 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
   }
   double foot[3] = {d * n[0], d * n[1], d * n[2]};
 
-  double volume6 = 0.0, moment24[3] = {0.0, 0.0, 0.0}, area = 0.0, deepest = 0.0;
+  double volume6 = 0.0, moment24[3] = {0.0, 0.0, 0.0}, area = 0.0, along_normal = 0.0, deepest = 0.0;
   int inside_vertices = 0;
   for (int t = 0; t < shape->num_triangles; t++) {
     const int *tri = shape->triangles + 3 * t;
@@ -81,6 +81,7 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
       double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
       double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
       area += 0.5 * sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+      along_normal -= 0.5 * (n[0] * cross[0] + n[1] * cross[1] + n[2] * cross[2]);
     }
   }
   for (int i = 0; i < shape->num_vertices; i++) {
@@ -103,6 +104,7 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
   result->volume = volume;
   result->depth = deepest;
   result->area = area;
+  result->projected_area = along_normal;   /* the facets' area vectors sum to -n times this */
   result->num_nodes = inside_vertices;
 }
 

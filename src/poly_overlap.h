@@ -57,6 +57,8 @@ typedef struct poly_overlap_result {
   double normal[3];       /* unit, world frame, pointing from particle A towards particle B */
   double depth;           /* extent of the intersection along normal */
   double area;            /* area of A's surface inside B */
+  double projected_area;  /* |sum of the area vectors of A's surface inside B|: normal * projected_area is that sum,
+                             which adds up over pieces of B (fix wall/polyhedral's mesh prisms) */
   int num_nodes;          /* intersection nodes: vertices inside the other shape + edge-face crossings */
   int num_inconsistent;   /* edges whose crossings disagreed with their end vertices (rounding); 0 normally */
   int filtered_out;       /* 1 when the half-space filter proved there is no overlap */

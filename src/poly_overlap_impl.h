@@ -521,7 +521,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
                                         POLY_FN(overlap_workspace) *ws, double *local_centroid,
                                         double *local_normal, poly_overlap_result *result)
 {
-  result->volume = result->depth = result->area = 0.0;
+  result->volume = result->depth = result->area = result->projected_area = 0.0;
   result->num_nodes = result->num_inconsistent = 0;
   result->filtered_out = 0;
 
@@ -679,6 +679,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
    * wholly inside the other), fall back to the centre line. */
   double normal[3] = {(double)acc.area_normal[0], (double)acc.area_normal[1], (double)acc.area_normal[2]};
   double length = sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+  result->projected_area = length;
   if (length > 1e-9 * (double)acc.area && length > 0.0)
     for (int k = 0; k < 3; k++) local_normal[k] = normal[k] / length;
   else
