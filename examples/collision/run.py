@@ -333,7 +333,8 @@ def parse_args(argv=None):
                         help="time step = elastic Hertz contact time / this")
     parser.add_argument("--after", type=float, default=1.6,
                         help="spheres: run until this many Hertz times after the latest possible first touch")
-    parser.add_argument("--after-rocks", type=float, default=2.5, help="the same for rocks")
+    parser.add_argument("--after-rocks", type=float, default=5.0,
+                        help="the same for rocks (some turn and touch for several Hertz times)")
     parser.add_argument("--gap", type=float, default=0.01, help="gap between the bounding spheres at the start [D]")
     parser.add_argument("--skin", type=float, default=0.01, help="neighbour skin [m]")
     parser.add_argument("--every", type=int, default=1, help="output interval [steps]")
