@@ -130,6 +130,16 @@ def tables(cases, references, meta):
         print("| " + " | ".join(cells) + " |")
 
 
+def active(case):
+    """(first, last) time at which the energy of some orientation differs from its start or end value: the part
+    of the run the plots show."""
+    ek = case["ek"]
+    moving = np.flatnonzero((np.abs(ek - ek[:, :1]) > 1e-6).any(axis=0))
+    settled = np.flatnonzero((np.abs(ek - ek[:, -1:]) > 1e-6).any(axis=0))
+    t = case["t"]
+    return (t[moving[0]] if len(moving) else t[0]), (t[settled[-1]] if len(settled) else t[-1])
+
+
 def plots(cases, references, out, title):
     try:
         import matplotlib
@@ -161,6 +171,10 @@ def plots(cases, references, out, title):
                 axes[0, col].plot(1e3 * r["lens_t"], r["lens_ek"], "--", color="0.5", lw=1.0,
                                   label="volumetric law, exact spheres")
                 axes[1, col].axhline(0.0, color="k", ls=":", lw=1.4, label="perfect sphere")
+            window = [active(c) for c in chosen if c["youngs"] == youngs]
+            low, high = min(w[0] for w in window), max(w[1] for w in window)
+            for row in range(2):
+                axes[row, col].set_xlim(1e3 * (low - 0.1 * (high - low)), 1e3 * (high + 0.15 * (high - low)))
             axes[0, col].set_title(f"E = {mpa(youngs)} MPa")
             axes[0, col].set_ylabel("mean of $E_k/E_k^0$")
             axes[1, col].set_ylabel("standard deviation of $E_k/E_k^0$")
@@ -189,12 +203,12 @@ def plots(cases, references, out, title):
             rows = sorted((c["triangles"], extrema(c)) for c in spheres if c["youngs"] == youngs)
             colour = plt.get_cmap("plasma")(k / 3.0)
             triangles = [t for t, _ in rows]
-            axes[0].plot(triangles, [max(e[0], 1e-6) for _, e in rows], "o-", color=colour,
+            axes[0].plot(triangles, [max(e[0], 1e-9) for _, e in rows], "o-", color=colour,
                          label=f"E = {mpa(youngs)} MPa")
             axes[1].plot(triangles, [e[2] for _, e in rows], "o-", color=colour, label=f"E = {mpa(youngs)} MPa")
             r = references.get(youngs)
             if r is not None:
-                axes[0].axhline(max(minimum(r["t"], r["ek"])[0], 1e-6), color=colour, ls=":", lw=1.0)
+                axes[0].axhline(max(minimum(r["t"], r["ek"])[0], 1e-9), color=colour, ls=":", lw=1.0)
         axes[0].set_ylabel("minimum of the mean $E_k/E_k^0$")
         axes[1].set_ylabel("maximum standard deviation of $E_k/E_k^0$")
         for axis in axes:
@@ -203,7 +217,7 @@ def plots(cases, references, out, title):
             axis.set_xlabel("triangles per sphere")
             axis.grid(alpha=0.3, which="both")
             axis.legend(fontsize=8)
-        axes[0].set_title("dotted: LIGGGHTS Hertz spheres (floored at 1e-6)", fontsize=8)
+        axes[0].set_title("dotted: LIGGGHTS Hertz spheres (values below 1e-9 drawn at 1e-9)", fontsize=8)
         figure.suptitle(f"convergence of the polyhedral spheres\n{title}", fontsize=8)
         figure.tight_layout()
         figure.savefig(out / "collision_convergence.png", dpi=100)
