@@ -131,11 +131,11 @@ def tables(cases, references, meta):
 
 
 def active(case):
-    """(first, last) time at which the energy of some orientation differs from its start or end value: the part
-    of the run the plots show."""
+    """(first, last) time at which the energy of some orientation differs from its start or end value by 1e-4:
+    the part of the run the plots show."""
     ek = case["ek"]
-    moving = np.flatnonzero((np.abs(ek - ek[:, :1]) > 1e-6).any(axis=0))
-    settled = np.flatnonzero((np.abs(ek - ek[:, -1:]) > 1e-6).any(axis=0))
+    moving = np.flatnonzero((np.abs(ek - ek[:, :1]) > 1e-4).any(axis=0))
+    settled = np.flatnonzero((np.abs(ek - ek[:, -1:]) > 1e-4).any(axis=0))
     t = case["t"]
     return (t[moving[0]] if len(moving) else t[0]), (t[settled[-1]] if len(settled) else t[-1])
 
