@@ -4,25 +4,36 @@
 #include <math.h>
 #include <string.h>
 
+#include <algorithm>
+
 #include "atom.h"
+#include "comm.h"
 #include "error.h"
+#include "fix_mesh_surface.h"
+#include "fix_neighlist_mesh.h"
 #include "fix_property_atom.h"
 #include "force.h"
 #include "modify.h"
+#include "neighbor.h"
+#include "tri_mesh.h"
 #include "update.h"
 
+#include "fix_particletemplate_polyhedron.h"
 #include "pair_polyhedral_volumetric.h"
 #include "poly_halfspace.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-// fix ID group wall/polyhedral [tangential history|off] [damping on|off] primitive type T xplane|yplane|zplane POS
+// fix ID group wall/polyhedral [tangential history|off] [damping on|off] [thickness H]
+//     primitive type T xplane|yplane|zplane POS  |  mesh n_meshes K meshes MESH-ID ...
 FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
-    : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), tangential(-1), damping(-1), history_id(NULL),
-      history(NULL), pair(NULL), force_summed(false)
+    : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), thickness(0.0), shell_thickness(0.0),
+      have_workspace(false), tangential(-1), damping(-1), history_id(NULL), history(NULL), pair(NULL),
+      force_summed(false)
 {
   if (strcmp(atom->atom_style, "polyhedron") != 0) error->all(FLERR, "Fix wall/polyhedral requires atom_style polyhedron");
+  bool have_plane = false;
   int iarg = 3;
   while (iarg < narg) {
     const char *key = arg[iarg];
@@ -39,6 +50,10 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
         error->all(FLERR, message);
       }
       iarg += 2;
+    } else if (strcmp(key, "thickness") == 0 && iarg + 1 < narg) {
+      thickness = force->numeric(FLERR, arg[iarg + 1]);
+      if (!(thickness > 0.0)) error->all(FLERR, "Fix wall/polyhedral: thickness must be positive");
+      iarg += 2;
     } else if (strcmp(key, "primitive") == 0) {
       if (iarg + 4 >= narg || strcmp(arg[iarg + 1], "type") != 0)
         error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T xplane|yplane|zplane POS'");
@@ -52,19 +67,23 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
         error->all(FLERR, message);
       }
       position = force->numeric(FLERR, arg[iarg + 4]);
+      have_plane = true;
       iarg += 5;
     } else if (strcmp(key, "mesh") == 0) {
-      error->all(FLERR, "Fix wall/polyhedral: mesh walls are not available yet; use 'primitive type T "
-                        "xplane|yplane|zplane POS'");
+      iarg = parse_mesh(iarg, narg, arg);
     } else {
       char message[256];
       snprintf(message, sizeof message,
-               "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, primitive)", key);
+               "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, thickness, primitive, mesh)", key);
       error->all(FLERR, message);
     }
   }
-  if (axis < 0) error->all(FLERR, "Fix wall/polyhedral: no wall given ('primitive type T zplane POS')");
-  if (wall_type < 1 || wall_type > atom->ntypes) error->all(FLERR, "Fix wall/polyhedral: wall type out of range");
+  if (have_plane && !meshes.empty())
+    error->all(FLERR, "Fix wall/polyhedral: either 'primitive' or 'mesh', not both (use two fixes)");
+  if (!have_plane && meshes.empty())
+    error->all(FLERR, "Fix wall/polyhedral: no wall given ('primitive type T zplane POS' or 'mesh n_meshes 1 meshes ID')");
+  if (have_plane && (wall_type < 1 || wall_type > atom->ntypes))
+    error->all(FLERR, "Fix wall/polyhedral: wall type out of range");
 
   vector_flag = 1;
   size_vector = 4;
@@ -77,22 +96,70 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
   sprintf(history_id, "%s_history", id);
 }
 
+// mesh n_meshes K meshes ID1 ... IDK, the meshes of fix mesh/surface (or mesh/surface/stress).
+int FixWallPolyhedral::parse_mesh(int iarg, int narg, char **arg)
+{
+  if (iarg + 3 >= narg || strcmp(arg[iarg + 1], "n_meshes") != 0 || strcmp(arg[iarg + 3], "meshes") != 0)
+    error->all(FLERR, "Fix wall/polyhedral: expected 'mesh n_meshes K meshes MESH-ID ...'");
+  int count = force->inumeric(FLERR, arg[iarg + 2]);
+  if (count < 1 || iarg + 4 + count > narg)
+    error->all(FLERR, "Fix wall/polyhedral: 'mesh n_meshes K meshes' needs K >= 1 mesh IDs");
+  for (int k = 0; k < count; k++) {
+    const char *mesh_id = arg[iarg + 4 + k];
+    int index = modify->find_fix(mesh_id);
+    FixMeshSurface *mesh = index >= 0 ? dynamic_cast<FixMeshSurface *>(modify->fix[index]) : NULL;
+    char message[512];
+    if (index < 0) {
+      snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s' does not exist (define it with fix ID all "
+                                        "mesh/surface file FILE type T before this fix)", mesh_id);
+      error->all(FLERR, message);
+    }
+    if (!mesh) {
+      snprintf(message, sizeof message, "Fix wall/polyhedral: fix '%s' is a %s, not a fix mesh/surface", mesh_id,
+               modify->fix[index]->style);
+      error->all(FLERR, message);
+    }
+    if (mesh->atomTypeWall() < 1 || mesh->atomTypeWall() > atom->ntypes) {
+      snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s' has type %d, out of range 1..%d", mesh_id,
+               mesh->atomTypeWall(), atom->ntypes);
+      error->all(FLERR, message);
+    }
+    mesh_ids.push_back(mesh_id);
+    meshes.push_back(mesh);
+  }
+  return iarg + 4 + count;
+}
+
 FixWallPolyhedral::~FixWallPolyhedral()
 {
   if (history && modify->find_fix(history_id) >= 0) modify->delete_fix(history_id);
   delete[] history_id;
+  for (size_t m = 0; m < shells.size(); m++) poly_mesh_shell_free(&shells[m]);
+  if (have_workspace) poly_overlap_workspace_destroy_d(&workspace);
 }
 
-// The per-atom tangential springs, migrating and restarting with the atoms.
+// The per-atom tangential springs (one per wall), migrating and restarting with the atoms;
+// for meshes, LIGGGHTS' triangle-particle neighbour lists (the ones fix wall/gran uses).
 void FixWallPolyhedral::post_create()
 {
+  int walls = meshes.empty() ? 1 : (int)meshes.size();
   if (modify->find_fix(history_id) < 0) {
-    const char *args[8 + POLY_HISTORY_SIZE] = {history_id, "all", "property/atom", history_id, "vector", "yes",
-                                               "no", "no"};
-    for (int d = 0; d < POLY_HISTORY_SIZE; d++) args[8 + d] = "0.";
-    modify->add_fix(8 + POLY_HISTORY_SIZE, const_cast<char **>(args));
+    std::vector<const char *> args;
+    const char *head[] = {history_id, "all", "property/atom", history_id, walls * POLY_HISTORY_SIZE > 1 ? "vector" : "scalar",
+                          "yes", "no", "no"};
+    args.assign(head, head + 8);
+    for (int d = 0; d < walls * POLY_HISTORY_SIZE; d++) args.push_back("0.");
+    modify->add_fix((int)args.size(), const_cast<char **>(&args[0]));
   }
   history = static_cast<FixPropertyAtom *>(modify->fix[modify->find_fix(history_id)]);
+  for (size_t m = 0; m < meshes.size(); m++) meshes[m]->createWallNeighList(igroup);
+}
+
+void FixWallPolyhedral::pre_delete(bool unfixflag)
+{
+  if (unfixflag)
+    for (size_t m = 0; m < meshes.size(); m++)
+      if (modify->find_fix(mesh_ids[m].c_str()) >= 0) meshes[m]->deleteWallNeighList();
 }
 
 int FixWallPolyhedral::setmask()
@@ -111,71 +178,353 @@ void FixWallPolyhedral::init()
   use_tangential = tangential < 0 ? pair->tangential_history_on() : tangential;
   use_damping = damping < 0 ? pair->damping_on() : damping;
   PairPolyhedralVolumetric::material_table(lmp, style, use_damping, use_tangential, materials);
+  if (meshes.empty()) return;
+
+  for (size_t m = 0; m < meshes.size(); m++) {
+    int index = modify->find_fix(mesh_ids[m].c_str());
+    if (index < 0 || modify->fix[index] != meshes[m]) {
+      char message[256];
+      snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s' was deleted", mesh_ids[m].c_str());
+      error->all(FLERR, message);
+    }
+  }
+  if (neighbor->style != 1)
+    error->all(FLERR, "Fix wall/polyhedral: mesh walls need 'neighbor SKIN bin' (LIGGGHTS' mesh neighbour lists bin)");
+
+  // Shell thickness: the largest particle must not reach through it.
+  double largest = 0.0, largest_all = 0.0;
+  int max_vertices = 6, max_triangles = 8;
+  for (int s = 1; s <= FixParticletemplatePolyhedron::count(lmp); s++) {
+    const poly_shape &shape = FixParticletemplatePolyhedron::find(lmp, s)->shape();
+    largest = std::max(largest, shape.bounding_radius);
+    max_vertices = std::max(max_vertices, shape.num_vertices);
+    max_triangles = std::max(max_triangles, shape.num_triangles);
+  }
+  for (int i = 0; i < atom->nlocal; i++) largest = std::max(largest, atom->radius[i]);
+  MPI_Allreduce(&largest, &largest_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  shell_thickness = thickness > 0.0 ? thickness : 2.0 * largest_all;
+  if (thickness > 0.0 && thickness < 2.0 * largest_all && comm->me == 0) {
+    char message[256];
+    snprintf(message, sizeof message, "Fix wall/polyhedral: thickness %g is less than the largest particle's bounding "
+                                      "diameter %g: a particle may reach through the wall", thickness, 2.0 * largest_all);
+    error->warning(FLERR, message);
+  }
+  if (have_workspace) poly_overlap_workspace_destroy_d(&workspace);
+  if (poly_overlap_workspace_create_d(&workspace, max_vertices, max_triangles) != 0)
+    error->one(FLERR, "Fix wall/polyhedral: out of memory for the overlap workspace");
+  have_workspace = true;
+  if (shells.empty()) build_shells();
+}
+
+// Every rank builds the shell of every mesh from all its triangles, once: the
+// vertex directions need the triangles around each vertex, which a rank's own
+// and ghost triangles do not always include.
+void FixWallPolyhedral::build_shells()
+{
+  for (size_t m = 0; m < meshes.size(); m++) {
+    TriMesh *mesh = meshes[m]->triMesh();
+    // Before the first run every rank still holds all triangles (LIGGGHTS distributes them at setup), after it
+    // its own: either way the union over the ranks has each global number at least once.
+    int local = mesh->sizeLocal(), total = 0;
+    std::vector<double> mine(10 * (size_t)local);
+    for (int j = 0; j < local; j++) {
+      mine[10 * j] = mesh->id(j);
+      double node[3];
+      for (int k = 0; k < 3; k++) {
+        mesh->node(j, k, node);
+        for (int d = 0; d < 3; d++) mine[10 * j + 1 + 3 * k + d] = node[d];
+      }
+    }
+    int nprocs = comm->nprocs, count = 10 * local;
+    std::vector<int> counts(nprocs), offsets(nprocs, 0);
+    MPI_Allgather(&count, 1, MPI_INT, &counts[0], 1, MPI_INT, world);
+    for (int p = 1; p < nprocs; p++) offsets[p] = offsets[p - 1] + counts[p - 1];
+    std::vector<double> all(offsets[nprocs - 1] + counts[nprocs - 1] + 1);
+    MPI_Allgatherv(local ? &mine[0] : NULL, count, MPI_DOUBLE, &all[0], &counts[0], &offsets[0], MPI_DOUBLE, world);
+    for (size_t e = 0; e + 10 <= all.size(); e += 10) total = std::max(total, (int)all[e] + 1);
+    std::vector<double> corners(9 * (size_t)total, 0.0);
+    std::vector<char> seen(total, 0);
+    for (size_t e = 0; e + 10 <= all.size(); e += 10) {
+      int gid = (int)all[e];
+      if (gid < 0 || gid >= total) error->one(FLERR, "Fix wall/polyhedral: mesh triangle number out of range");
+      seen[gid] = 1;
+      for (int d = 0; d < 9; d++) corners[9 * (size_t)gid + d] = all[e + 1 + d];
+    }
+    char message[512], text[256];
+    if (std::count(seen.begin(), seen.end(), 1) != total) {
+      snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': triangles missing", mesh_ids[m].c_str());
+      error->all(FLERR, message);
+    }
+    poly_mesh_shell shell;
+    if (poly_mesh_shell_build(&corners[0], total, 1e-8, &shell, text, sizeof text) != 0) {
+      snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': %s", mesh_ids[m].c_str(), text);
+      error->all(FLERR, message);
+    }
+    shells.push_back(shell);
+    if (comm->me != 0) continue;
+    if (shell.num_misoriented_edges > 0) {
+      snprintf(message, sizeof message,
+               "Fix wall/polyhedral: mesh '%s': %d shared edges run the same way in both triangles: the triangles' "
+               "normals are inconsistent (flipped); each triangle's solid is behind its normal",
+               mesh_ids[m].c_str(), shell.num_misoriented_edges);
+      error->warning(FLERR, message);
+    }
+    if (shell.num_nonmanifold_edges > 0) {
+      snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': %d edges belong to more than two triangles",
+               mesh_ids[m].c_str(), shell.num_nonmanifold_edges);
+      error->warning(FLERR, message);
+    }
+    if (shell.min_corner_cosine < 0.2) {
+      snprintf(message, sizeof message,
+               "Fix wall/polyhedral: mesh '%s' has edges sharper than about 157 degrees between face normals; the "
+               "shell behind them is thin there (vertex direction . face normal = %.3g)",
+               mesh_ids[m].c_str(), shell.min_corner_cosine);
+      error->warning(FLERR, message);
+    }
+  }
 }
 
 void FixWallPolyhedral::setup(int)
 {
-  apply_walls(false);
+  force_summed = false;
+  for (int k = 0; k < 4; k++) wall_force[k] = 0.0;
+  if (meshes.empty()) apply_plane(false);
+  for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, false);
 }
 
 void FixWallPolyhedral::post_force(int)
 {
-  apply_walls(true);
-}
-
-void FixWallPolyhedral::apply_walls(bool advance_history)
-{
-  double **x = atom->x, **v = atom->v, **omega = atom->omega, **f = atom->f, **torque = atom->torque;
-  double **quaternion = atom->quaternion, **springs = history->array_atom;
-  double *rmass = atom->rmass, *density = atom->density, *radius = atom->radius;
-  int *mask = atom->mask, *type = atom->type, *shapetype = atom->shapetype;
-  const int nlocal = atom->nlocal;
-  const double zero[3] = {0.0, 0.0, 0.0};
   force_summed = false;
   for (int k = 0; k < 4; k++) wall_force[k] = 0.0;
+  if (meshes.empty()) apply_plane(true);
+  for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, true);
+}
 
-  for (int i = 0; i < nlocal; i++) {
+// The contact law for particle i against a wall of infinite mass moving at wall_velocity at the centroid;
+// adds force and torque to the particle and the force to the wall's total. Returns the force on the particle.
+void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, bool advance_history, double volume,
+                                      double depth, const double *normal, const double *centroid,
+                                      const double *wall_velocity, double *force_on_particle)
+{
+  double **x = atom->x, **v = atom->v, **omega = atom->omega, **f = atom->f, **torque = atom->torque;
+  const double zero[3] = {0.0, 0.0, 0.0};
+  poly_contact_input input;
+  poly_contact_input_set_geometry(&input, volume, depth, normal, centroid);
+  // The wall: infinite mass (0), its "position" the contact point.
+  poly_contact_input_set_bodies(&input, x[i], v[i], omega[i], atom->rmass[i], centroid, wall_velocity, zero, 0.0,
+                                update->dt);
+  double scratch[POLY_HISTORY_SIZE];
+  double *law_history = spring;
+  if (!advance_history) {
+    for (int d = 0; d < POLY_HISTORY_SIZE; d++) scratch[d] = spring[d];
+    law_history = scratch;
+  }
+  poly_contact_output out;
+  poly_contact_evaluate(&input, &materials[atom->type[i] * (atom->ntypes + 1) + type_of_wall], use_tangential,
+                        use_damping, law_history, &out);
+  for (int k = 0; k < 3; k++) {
+    f[i][k] -= out.force_j[k];
+    torque[i][k] += out.torque_i[k];
+    wall_force[k] += out.force_j[k];
+    force_on_particle[k] = -out.force_j[k];
+  }
+  wall_force[3] += 1.0;
+}
+
+void FixWallPolyhedral::apply_plane(bool advance_history)
+{
+  double **x = atom->x, **quaternion = atom->quaternion, **springs = history->array_atom;
+  double *rmass = atom->rmass, *density = atom->density, *radius = atom->radius;
+  int *mask = atom->mask, *shapetype = atom->shapetype;
+  const double zero[3] = {0.0, 0.0, 0.0};
+  for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     double *spring = springs[i];
     // The wall solid is on the far side of the plane from the particle's centre.
     double side = x[i][axis] >= position ? 1.0 : -1.0;
-    if (fabs(x[i][axis] - position) >= radius[i]) {
-      for (int d = 0; d < POLY_HISTORY_SIZE; d++) spring[d] = 0.0;
-      continue;
-    }
-    double normal[3] = {0.0, 0.0, 0.0};
-    normal[axis] = side;
-    double rotation[9];
-    poly_quat_to_matrix(quaternion[i], rotation);
     poly_overlap_result geometry;
-    poly_halfspace_overlap(&pair->shape_view(shapetype[i]), rotation, x[i], normal, side * position, &geometry);
+    geometry.volume = 0.0;
+    if (fabs(x[i][axis] - position) < radius[i]) {
+      double normal[3] = {0.0, 0.0, 0.0};
+      normal[axis] = side;
+      double rotation[9];
+      poly_quat_to_matrix(quaternion[i], rotation);
+      poly_halfspace_overlap(&pair->shape_view(shapetype[i]), rotation, x[i], normal, side * position, &geometry);
+    }
     if (!(geometry.volume > 1e-12 * rmass[i] / density[i]) || !(geometry.depth > 0.0)) {
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) spring[d] = 0.0;
       continue;
     }
-    poly_contact_input input;
-    poly_contact_input_set_geometry(&input, geometry.volume, geometry.depth, geometry.normal, geometry.centroid);
-    // The wall: at rest, infinite mass (0), its "position" the contact point.
-    poly_contact_input_set_bodies(&input, x[i], v[i], omega[i], rmass[i], geometry.centroid, zero, zero, 0.0,
-                                  update->dt);
-    double scratch[POLY_HISTORY_SIZE];
-    double *law_history = spring;
-    if (!advance_history) {
-      for (int d = 0; d < POLY_HISTORY_SIZE; d++) scratch[d] = spring[d];
-      law_history = scratch;
-    }
-    poly_contact_output out;
-    poly_contact_evaluate(&input, &materials[type[i] * (atom->ntypes + 1) + wall_type], use_tangential, use_damping, law_history, &out);
-    for (int k = 0; k < 3; k++) {
-      f[i][k] -= out.force_j[k];
-      torque[i][k] += out.torque_i[k];
-      wall_force[k] += out.force_j[k];
-    }
-    wall_force[3] += 1.0;
+    double force[3];
+    apply_contact(i, wall_type, spring, advance_history, geometry.volume, geometry.depth, geometry.normal,
+                  geometry.centroid, zero, force);
   }
 }
 
-// 1-3: force on the wall, 4: particles touching it (summed over ranks).
+// Each (particle, triangle) candidate of LIGGGHTS' mesh neighbour list: the particle's overlap with the
+// triangle's prism, with the wall's velocity at the piece's centroid.
+void FixWallPolyhedral::collect_pieces(int m)
+{
+  TriMesh *mesh = meshes[m]->triMesh();
+  FixNeighlistMesh *list = meshes[m]->meshNeighlist();
+  MultiVectorContainer<double, 3, 3> *velocity_container =
+      mesh->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v");
+  double ***vertex_velocity = velocity_container ? velocity_container->begin() : NULL;
+  double **x = atom->x, **quaternion = atom->quaternion, *radius = atom->radius;
+  int *mask = atom->mask, *shapetype = atom->shapetype;
+  const int nlocal = atom->nlocal, triangles = mesh->size();
+  pieces.clear();
+  nodes.clear();
+  for (int j = 0; j < triangles; j++) {
+    const std::vector<int> &candidates = list->get_contact_list(j);
+    if (candidates.empty()) continue;
+    double corners[3][3];
+    for (int k = 0; k < 3; k++) mesh->node(j, k, corners[k]);
+    poly_mesh_prism prism;
+    if (poly_mesh_shell_prism(&shells[m], mesh->id(j), corners, shell_thickness, &prism) != 0) continue;
+    const double *top_normal = prism.face_normals;
+    poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
+    for (size_t c = 0; c < candidates.size(); c++) {
+      int i = candidates[c];
+      if (i >= nlocal || !(mask[i] & groupbit)) continue;
+      double offset[3] = {x[i][0] - corners[0][0], x[i][1] - corners[0][1], x[i][2] - corners[0][2]};
+      if (offset[0] * top_normal[0] + offset[1] * top_normal[1] + offset[2] * top_normal[2] >= radius[i]) continue;
+      double to_prism[3] = {x[i][0] - prism.origin[0], x[i][1] - prism.origin[1], x[i][2] - prism.origin[2]};
+      double reach = radius[i] + prism.view.bounding_radius;
+      if (to_prism[0] * to_prism[0] + to_prism[1] * to_prism[1] + to_prism[2] * to_prism[2] >= reach * reach) continue;
+      poly_pose particle_pose = {{x[i][0], x[i][1], x[i][2]},
+                                 {quaternion[i][0], quaternion[i][1], quaternion[i][2], quaternion[i][3]}};
+      poly_overlap_result geometry;
+      poly_overlap_d(&pair->shape_view(shapetype[i]), &particle_pose, &prism.view, &prism_pose, &workspace, &geometry);
+      if (!(geometry.volume > 0.0)) continue;
+      MeshPiece piece;
+      piece.particle = i;
+      piece.triangle = j;
+      piece.triangle_id = mesh->id(j);
+      piece.volume = geometry.volume;
+      piece.depth = geometry.depth;
+      for (int k = 0; k < 3; k++) {
+        piece.centroid[k] = geometry.centroid[k];
+        piece.normal[k] = geometry.normal[k];
+        piece.area_vector[k] = geometry.normal[k] * geometry.projected_area;
+        piece.wall_velocity[k] = 0.0;
+      }
+      if (vertex_velocity) {
+        // Barycentric coordinates of the centroid's foot on the triangle's plane (exact for rigid motions within
+        // the plane; the offset along the normal is of the order of the overlap depth).
+        double e1[3], e2[3], r[3];
+        for (int k = 0; k < 3; k++) {
+          e1[k] = corners[1][k] - corners[0][k];
+          e2[k] = corners[2][k] - corners[0][k];
+          r[k] = piece.centroid[k] - corners[0][k];
+        }
+        double g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2],
+               g22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+        double r1 = r[0] * e1[0] + r[1] * e1[1] + r[2] * e1[2], r2 = r[0] * e2[0] + r[1] * e2[1] + r[2] * e2[2];
+        double det = g11 * g22 - g12 * g12;
+        double b1 = (g22 * r1 - g12 * r2) / det, b2 = (g11 * r2 - g12 * r1) / det, b0 = 1.0 - b1 - b2;
+        for (int k = 0; k < 3; k++)
+          piece.wall_velocity[k] = b0 * vertex_velocity[j][0][k] + b1 * vertex_velocity[j][1][k] +
+                                   b2 * vertex_velocity[j][2][k];
+      }
+      piece.first_node = (int)nodes.size() / 3;
+      piece.num_nodes = workspace.num_points <= workspace.capacity_points ? workspace.num_points : -1;
+      if (piece.num_nodes > 0) {
+        nodes.resize(nodes.size() + 3 * (size_t)piece.num_nodes);
+        poly_overlap_nodes_d(&workspace, &particle_pose, &nodes[3 * (size_t)piece.first_node], piece.num_nodes);
+      }
+      pieces.push_back(piece);
+    }
+  }
+}
+
+static bool piece_order(const FixWallPolyhedral::MeshPiece &a, const FixWallPolyhedral::MeshPiece &b)
+{
+  if (a.particle != b.particle) return a.particle < b.particle;
+  return a.triangle_id < b.triangle_id;
+}
+
+// One contact per particle and mesh: the pieces' volumes, first moments and area vectors add up (the prisms
+// partition the shell); the depth is the largest piece depth along the summed normal.
+void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
+{
+  collect_pieces(m);
+  // Sorted by particle, then by global triangle: sums independent of the domain decomposition.
+  std::sort(pieces.begin(), pieces.end(), piece_order);
+  double **springs = history->array_atom;
+  const int nlocal = atom->nlocal, slot = POLY_HISTORY_SIZE * m;
+  std::vector<char> touching(nlocal, 0);
+  for (size_t first = 0; first < pieces.size();) {
+    size_t last = first;
+    while (last + 1 < pieces.size() && pieces[last + 1].particle == pieces[first].particle) last++;
+    int i = pieces[first].particle;
+    double volume = 0.0, moment[3] = {0, 0, 0}, area[3] = {0, 0, 0}, weighted_normal[3] = {0, 0, 0},
+           velocity[3] = {0, 0, 0};
+    for (size_t p = first; p <= last; p++) {
+      const MeshPiece &piece = pieces[p];
+      volume += piece.volume;
+      for (int k = 0; k < 3; k++) {
+        moment[k] += piece.volume * piece.centroid[k];
+        area[k] += piece.area_vector[k];
+        weighted_normal[k] += piece.volume * piece.normal[k];
+        velocity[k] += piece.volume * piece.wall_velocity[k];
+      }
+    }
+    double centroid[3], normal[3];
+    double length = sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2]);
+    // A particle wholly inside the shell has no surface inside it that sums to a direction.
+    const double *direction = length > 0.0 ? area : weighted_normal;
+    if (length <= 0.0) length = sqrt(direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2]);
+    for (int k = 0; k < 3; k++) {
+      centroid[k] = moment[k] / volume;
+      velocity[k] /= volume;
+      normal[k] = direction[k] / length;
+    }
+    // Depth: the extent of the union of the pieces' nodes along the contact normal.
+    double low = 1e300, high = -1e300, fallback = 0.0;
+    for (size_t p = first; p <= last; p++) {
+      const MeshPiece &piece = pieces[p];
+      if (piece.num_nodes < 0) {
+        double along = piece.normal[0] * normal[0] + piece.normal[1] * normal[1] + piece.normal[2] * normal[2];
+        fallback = std::max(fallback, piece.depth * along);
+        continue;
+      }
+      for (int q = 0; q < piece.num_nodes; q++) {
+        const double *y = &nodes[3 * (size_t)(piece.first_node + q)];
+        double along = y[0] * normal[0] + y[1] * normal[1] + y[2] * normal[2];
+        low = std::min(low, along);
+        high = std::max(high, along);
+      }
+    }
+    double depth = std::max(high > low ? high - low : 0.0, fallback);
+    size_t begin = first;
+    first = last + 1;
+    if (!(volume > 1e-12 * atom->rmass[i] / atom->density[i]) || !(depth > 0.0)) continue;
+    touching[i] = 1;
+    double force[3];
+    FixMeshSurface *mesh = meshes[m];
+    apply_contact(i, mesh->atomTypeWall(), springs[i] + slot, advance_history, volume, depth, normal, centroid,
+                  velocity, force);
+    if (!advance_history) continue;
+    // Each triangle carries its share of the force, by volume, at its piece's centroid (so the torque on the
+    // mesh sums to the whole force at the contact centroid); LIGGGHTS' stress module turns the sign.
+    for (size_t p = begin; p <= last; p++) {
+      MeshPiece &piece = pieces[p];
+      double share = piece.volume / volume, on_particle[3], arm[3];
+      for (int k = 0; k < 3; k++) {
+        on_particle[k] = share * force[k];
+        arm[k] = piece.centroid[k] - atom->x[i][k];
+      }
+      mesh->add_particle_contribution(i, on_particle, arm, piece.triangle, piece.wall_velocity);
+    }
+  }
+  // Particles not touching this mesh lose their spring.
+  for (int i = 0; i < nlocal; i++)
+    if (!touching[i] && (atom->mask[i] & groupbit))
+      for (int d = 0; d < POLY_HISTORY_SIZE; d++) springs[i][slot + d] = 0.0;
+}
+
+// 1-3: force on the wall, 4: particle-wall contacts (summed over ranks).
 double FixWallPolyhedral::compute_vector(int n)
 {
   if (!force_summed) {

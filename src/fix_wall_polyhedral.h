@@ -1,19 +1,30 @@
-/* fix wall/polyhedral: plane walls for polyhedral particles, with the
- * volumetric contact law of pair_style polyhedral/volumetric (the wall is the
- * second body, of infinite mass and at rest). The overlap of a particle with
- * the wall solid is exact (src/poly_halfspace.h). The tangential spring of
- * each particle's wall contact is a per-atom property (fix property/atom), so
- * it migrates with the particle and is written to restart files. */
+/* fix wall/polyhedral: plane walls and LIGGGHTS triangle-mesh walls for
+ * polyhedral particles, with the volumetric contact law of pair_style
+ * polyhedral/volumetric (the wall is the second body, of infinite mass).
+ *
+ * Primitive planes: the overlap of a particle with the wall solid is exact
+ * (src/poly_halfspace.h). Meshes (fix mesh/surface, mesh/surface/stress, moved
+ * by fix move/mesh): each triangle contributes the particle's overlap with its
+ * prism of the shell behind the mesh (src/poly_mesh_shell.h); the prisms
+ * partition the shell, so a particle has one contact per mesh whose volume,
+ * centroid and area vector are the sums over the triangles it touches. The
+ * force is shared among those triangles by volume for fix mesh/surface/stress.
+ * The tangential spring of each particle's contact with each wall is a per-atom
+ * property (fix property/atom), so it migrates with the particle and is
+ * written to restart files. */
 #ifdef FIX_CLASS
 #else
 
 #ifndef LMP_FIX_WALL_POLYHEDRAL_H
 #define LMP_FIX_WALL_POLYHEDRAL_H
 
+#include <string>
 #include <vector>
 
 #include "fix.h"
 #include "poly_contact.h"
+#include "poly_mesh_shell.h"
+#include "poly_overlap.h"
 
 namespace LAMMPS_NS {
 
@@ -22,18 +33,41 @@ class FixWallPolyhedral : public Fix {
   FixWallPolyhedral(class LAMMPS *, int, char **);
   ~FixWallPolyhedral();
   void post_create();
+  void pre_delete(bool unfixflag);
   int setmask();
   void init();
   void setup(int);
   void post_force(int);
   double compute_vector(int);
 
- private:
-  void apply_walls(bool advance_history);
+  // One triangle's share of a particle's contact with a mesh.
+  struct MeshPiece {
+    int particle, triangle, triangle_id;  // local atom, local and global triangle
+    double volume, depth, centroid[3], normal[3], area_vector[3], wall_velocity[3];
+    int first_node, num_nodes;  // in `nodes`; num_nodes < 0: not kept (then `depth` stands in)
+  };
 
-  int wall_type;             // atom type of the wall material
-  int axis;                  // 0, 1, 2 for xplane, yplane, zplane
+ private:
+  int parse_mesh(int iarg, int narg, char **arg);
+  void build_shells();
+  void apply_plane(bool advance_history);
+  void apply_mesh(int m, bool advance_history);
+  void collect_pieces(int m);
+  void apply_contact(int i, int wall_type, double *spring, bool advance_history, double volume, double depth,
+                     const double *normal, const double *centroid, const double *wall_velocity, double *force_on_particle);
+
+  int wall_type;             // atom type of the plane's material
+  int axis;                  // 0, 1, 2 for xplane, yplane, zplane; -1: meshes
   double position;           // of the plane along the axis
+  std::vector<std::string> mesh_ids;
+  std::vector<class FixMeshSurface *> meshes;
+  std::vector<poly_mesh_shell> shells;  // per mesh, by global triangle number
+  double thickness;          // of the shell behind the meshes; <= 0: twice the largest bounding radius
+  double shell_thickness;    // in use
+  poly_overlap_workspace_d workspace;
+  bool have_workspace;
+  std::vector<MeshPiece> pieces;
+  std::vector<double> nodes;   // of all pieces, world frame relative to their particle
   int tangential, damping;   // -1: as the pair style
   char *history_id;
   class FixPropertyAtom *history;

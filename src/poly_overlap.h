@@ -87,6 +87,8 @@ typedef struct poly_overlap_result {
     unsigned char *inside_a, *inside_b;/* vertex of A inside B, and vice versa */                   \
     REAL *crossings;                   /* along one edge: parameters, then directions; 2 * capacity_triangles */ \
     REAL *points;                      /* intersection nodes, 3 * capacity_points */                \
+    int num_points;                    /* of the last overlap (may exceed capacity_points) */        \
+    double origin[3];                  /* of the local frame of the points, in A's body frame */     \
   } poly_overlap_workspace##SUFFIX;
 
 POLY_OVERLAP_DECLARE(double, _d)
@@ -120,6 +122,11 @@ void poly_overlap_f(const poly_shape_view_f *a, const poly_pose *pose_a, const p
                     const poly_pose *pose_b, poly_overlap_workspace_f *ws, poly_overlap_result *result);
 void poly_overlap_m(const poly_shape_view_m *a, const poly_pose *pose_a, const poly_shape_view_m *b,
                     const poly_pose *pose_b, poly_overlap_workspace_m *ws, poly_overlap_result *result);
+
+/* The nodes of the last overlap computed with ws (by poly_overlap_d, A at pose_a): world frame, relative
+ * to A's position. Writes at most `capacity` nodes (3 doubles each) and returns how many there are, or -1
+ * when they did not fit in the workspace (then only the result's own depth is known). */
+int poly_overlap_nodes_d(const poly_overlap_workspace_d *ws, const poly_pose *pose_a, double *nodes, int capacity);
 
 #ifdef __cplusplus
 }

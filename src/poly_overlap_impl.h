@@ -524,6 +524,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   result->volume = result->depth = result->area = result->projected_area = 0.0;
   result->num_nodes = result->num_inconsistent = 0;
   result->filtered_out = 0;
+  ws->num_points = 0;
 
   /* Filtering direction (eq. 5.3): the centre line; any direction is valid. */
   double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
@@ -565,6 +566,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
    * tetrahedra are then the size of the overlap, not of the particles. */
   double middle = 0.5 * (extent_a + extent_b);
   double origin[3] = {axis_d[0] * middle, axis_d[1] * middle, axis_d[2] * middle};
+  for (int k = 0; k < 3; k++) ws->origin[k] = origin[k];
   R axis[3] = {(R)axis_d[0], (R)axis_d[1], (R)axis_d[2]};
   R limit_a = (R)(extent_b - middle); /* B lies at >= limit_a along the axis */
   R limit_b = (R)(extent_a - middle); /* A lies at <= limit_b */
@@ -668,6 +670,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   }
 
   result->num_nodes = num_points;
+  ws->num_points = num_points;
   result->num_inconsistent = inconsistent;
   double volume = (double)acc.volume6 / 6.0;
   if (!(volume > 0.0)) return;

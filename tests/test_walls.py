@@ -124,7 +124,7 @@ def test_cube_on_a_tilted_plane_sticks_or_slides(run_deck, angle, pair_options, 
     ("fix floor all wall/polyhedral sideways 1 primitive type 2 zplane 0\n", "unknown keyword 'sideways'"),
     ("fix floor all wall/polyhedral tangential maybe primitive type 2 zplane 0\n", "invalid value 'maybe'"),
     ("fix floor all wall/polyhedral tangential off\n", "no wall given"),
-    ("fix floor all wall/polyhedral mesh n_meshes 1 meshes hopper\n", "mesh walls are not available yet"),
+    ("fix floor all wall/polyhedral mesh n_meshes 1 meshes hopper\n", "mesh 'hopper' does not exist"),
 ])
 def test_bad_wall_input_is_a_clear_error(run_deck, wall, message):
     result = run_deck(scene(wall, f"0 0 {EDGE / 2}", steps=10))

@@ -1,0 +1,264 @@
+#include "poly_mesh_shell.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "poly_shape.h"
+
+static void shell_sub(const double *a, const double *b, double *out)
+{
+  for (int k = 0; k < 3; k++) out[k] = a[k] - b[k];
+}
+
+static void shell_cross(const double *a, const double *b, double *out)
+{
+  out[0] = a[1] * b[2] - a[2] * b[1];
+  out[1] = a[2] * b[0] - a[0] * b[2];
+  out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double shell_dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static double shell_normalize(double *a)
+{
+  double length = sqrt(shell_dot(a, a));
+  if (length > 0.0)
+    for (int k = 0; k < 3; k++) a[k] /= length;
+  return length;
+}
+
+/* Unit normal (v1 - v0) x (v2 - v0) and the two edge vectors; returns the doubled area. */
+static double shell_frame(const double *v0, const double *v1, const double *v2, double e1[3], double e2[3],
+                          double normal[3])
+{
+  shell_sub(v1, v0, e1);
+  shell_sub(v2, v0, e2);
+  shell_cross(e1, e2, normal);
+  return shell_normalize(normal);
+}
+
+typedef struct shell_edge {
+  int low, high;  /* vertex ids, low < high */
+  int forward;    /* 1: the triangle runs low -> high */
+} shell_edge;
+
+static int shell_edge_order(const void *pa, const void *pb)
+{
+  const shell_edge *a = (const shell_edge *)pa, *b = (const shell_edge *)pb;
+  if (a->low != b->low) return a->low < b->low ? -1 : 1;
+  if (a->high != b->high) return a->high < b->high ? -1 : 1;
+  return a->forward - b->forward;
+}
+
+/* Open, misoriented and non-manifold edges, from the sorted list of all triangle edges. */
+static void shell_count_edges(poly_mesh_shell *shell, shell_edge *edges, int count)
+{
+  qsort(edges, (size_t)count, sizeof(shell_edge), shell_edge_order);
+  for (int first = 0; first < count;) {
+    int last = first;
+    while (last + 1 < count && edges[last + 1].low == edges[first].low && edges[last + 1].high == edges[first].high)
+      last++;
+    int users = last - first + 1;
+    if (users == 1) shell->num_open_edges++;
+    else if (users > 2) shell->num_nonmanifold_edges++;
+    else if (edges[first].forward == edges[last].forward) shell->num_misoriented_edges++;
+    first = last + 1;
+  }
+}
+
+int poly_mesh_shell_build(const double *corners, int num_triangles, double relative_tolerance, poly_mesh_shell *shell,
+                          char *message, size_t message_size)
+{
+  memset(shell, 0, sizeof *shell);
+  shell->min_corner_cosine = 1.0;
+  if (num_triangles <= 0) {
+    snprintf(message, message_size, "the mesh has no triangles");
+    return -1;
+  }
+  poly_mesh soup;
+  soup.num_vertices = 3 * num_triangles;
+  soup.num_triangles = num_triangles;
+  soup.vertices = (double *)malloc(sizeof(double) * 9 * (size_t)num_triangles);
+  soup.triangles = (int *)malloc(sizeof(int) * 3 * (size_t)num_triangles);
+  double *vertex_directions = NULL;
+  shell_edge *edges = (shell_edge *)malloc(sizeof(shell_edge) * 3 * (size_t)num_triangles);
+  shell->corner_directions = (double *)malloc(sizeof(double) * 9 * (size_t)num_triangles);
+  if (!soup.vertices || !soup.triangles || !edges || !shell->corner_directions) goto out_of_memory;
+  memcpy(soup.vertices, corners, sizeof(double) * 9 * (size_t)num_triangles);
+  for (int c = 0; c < 3 * num_triangles; c++) soup.triangles[c] = c;
+  if (poly_mesh_weld(&soup, relative_tolerance) < 0) goto out_of_memory;
+  shell->num_triangles = num_triangles;
+  shell->num_vertices = soup.num_vertices;
+  shell->vertex_ids = soup.triangles;
+  soup.triangles = NULL;
+
+  /* Angle-weighted mean normal per vertex. */
+  vertex_directions = (double *)calloc(3 * (size_t)soup.num_vertices, sizeof(double));
+  if (!vertex_directions) goto out_of_memory;
+  for (int t = 0; t < num_triangles; t++) {
+    const double *v = corners + 9 * t;
+    double e1[3], e2[3], normal[3];
+    if (shell_frame(v, v + 3, v + 6, e1, e2, normal) <= 0.0) {
+      snprintf(message, message_size, "triangle %d has zero area", t);
+      goto failed;
+    }
+    for (int c = 0; c < 3; c++) {
+      double to_next[3], to_previous[3];
+      shell_sub(v + 3 * ((c + 1) % 3), v + 3 * c, to_next);
+      shell_sub(v + 3 * ((c + 2) % 3), v + 3 * c, to_previous);
+      double cosine = shell_dot(to_next, to_previous) / sqrt(shell_dot(to_next, to_next) * shell_dot(to_previous, to_previous));
+      double angle = acos(cosine < -1.0 ? -1.0 : cosine > 1.0 ? 1.0 : cosine);
+      double *m = vertex_directions + 3 * shell->vertex_ids[3 * t + c];
+      for (int k = 0; k < 3; k++) m[k] += angle * normal[k];
+    }
+    for (int c = 0; c < 3; c++) {
+      int a = shell->vertex_ids[3 * t + c], b = shell->vertex_ids[3 * t + (c + 1) % 3];
+      if (a == b) {
+        snprintf(message, message_size, "triangle %d has two coincident corners", t);
+        goto failed;
+      }
+      shell_edge edge = {a < b ? a : b, a < b ? b : a, a < b};
+      edges[3 * t + c] = edge;
+    }
+  }
+  for (int i = 0; i < soup.num_vertices; i++)
+    if (shell_normalize(vertex_directions + 3 * i) <= 0.0) {
+      /* Normals around the vertex cancel: a fold back onto itself. */
+      snprintf(message, message_size, "the normals around a vertex cancel (the mesh folds back at (%g, %g, %g))",
+               soup.vertices[3 * i], soup.vertices[3 * i + 1], soup.vertices[3 * i + 2]);
+      goto failed;
+    }
+
+  /* Each corner's direction in its triangle's frame: m = a e1 + b e2 + c n. */
+  for (int t = 0; t < num_triangles; t++) {
+    const double *v = corners + 9 * t;
+    double e1[3], e2[3], normal[3];
+    shell_frame(v, v + 3, v + 6, e1, e2, normal);
+    double g11 = shell_dot(e1, e1), g12 = shell_dot(e1, e2), g22 = shell_dot(e2, e2), det = g11 * g22 - g12 * g12;
+    for (int c = 0; c < 3; c++) {
+      const double *m = vertex_directions + 3 * shell->vertex_ids[3 * t + c];
+      double along = shell_dot(m, normal);
+      double in_plane[3] = {m[0] - along * normal[0], m[1] - along * normal[1], m[2] - along * normal[2]};
+      double r1 = shell_dot(in_plane, e1), r2 = shell_dot(in_plane, e2);
+      double *coefficients = shell->corner_directions + 9 * t + 3 * c;
+      coefficients[0] = (g22 * r1 - g12 * r2) / det;
+      coefficients[1] = (g11 * r2 - g12 * r1) / det;
+      coefficients[2] = along;
+      if (along < shell->min_corner_cosine) shell->min_corner_cosine = along;
+    }
+  }
+  shell_count_edges(shell, edges, 3 * num_triangles);
+  free(vertex_directions);
+  free(edges);
+  free(soup.vertices);
+  return 0;
+
+out_of_memory:
+  snprintf(message, message_size, "out of memory for a mesh of %d triangles", num_triangles);
+failed:
+  free(vertex_directions);
+  free(edges);
+  free(soup.vertices);
+  free(soup.triangles);
+  poly_mesh_shell_free(shell);
+  return -1;
+}
+
+void poly_mesh_shell_free(poly_mesh_shell *shell)
+{
+  free(shell->vertex_ids);
+  free(shell->corner_directions);
+  shell->vertex_ids = NULL;
+  shell->corner_directions = NULL;
+}
+
+/* Vertices 0-2 the triangle, 3-5 behind 0-2. Top and bottom faces, then two
+ * triangles per side quad (b, a, a', b') over edge a -> b of the top. */
+static int prism_add_triangle(int *triangles, int count, int a, int b, int c)
+{
+  triangles[3 * count] = a;
+  triangles[3 * count + 1] = b;
+  triangles[3 * count + 2] = c;
+  return count + 1;
+}
+
+int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3], double thickness,
+                          poly_mesh_prism *prism)
+{
+  double e1[3], e2[3], normal[3];
+  if (shell_frame(nodes[0], nodes[1], nodes[2], e1, e2, normal) <= 0.0) return -1;
+  double corner[6][3];
+  for (int c = 0; c < 3; c++) {
+    const double *coefficients = shell->corner_directions + 9 * triangle + 3 * c;
+    for (int k = 0; k < 3; k++) {
+      double m = coefficients[0] * e1[k] + coefficients[1] * e2[k] + coefficients[2] * normal[k];
+      corner[c][k] = nodes[c][k];
+      corner[c + 3][k] = nodes[c][k] - thickness * m;
+    }
+  }
+  for (int k = 0; k < 3; k++) {
+    double sum = 0.0;
+    for (int c = 0; c < 6; c++) sum += corner[c][k];
+    prism->origin[k] = sum / 6.0;
+  }
+  double radius2 = 0.0;
+  for (int c = 0; c < 6; c++) {
+    double *y = prism->vertices + 3 * c;
+    shell_sub(corner[c], prism->origin, y);
+    double r2 = shell_dot(y, y);
+    if (r2 > radius2) radius2 = r2;
+  }
+
+  const int *ids = shell->vertex_ids + 3 * triangle;
+  int count = 0;
+  count = prism_add_triangle(prism->triangles, count, 0, 1, 2);
+  count = prism_add_triangle(prism->triangles, count, 3, 5, 4);
+  for (int c = 0; c < 3; c++) {
+    int a = c, b = (c + 1) % 3;
+    /* The diagonal starts at the top vertex of the lower global number, so the
+     * prism across this edge splits the shared quad the same way. */
+    if (ids[a] < ids[b]) {
+      count = prism_add_triangle(prism->triangles, count, b, a, b + 3);
+      count = prism_add_triangle(prism->triangles, count, a, a + 3, b + 3);
+    } else {
+      count = prism_add_triangle(prism->triangles, count, b, a, a + 3);
+      count = prism_add_triangle(prism->triangles, count, b, a + 3, b + 3);
+    }
+  }
+
+  /* Edges (first < second) and the triangle running first -> second, then the other. */
+  int num_edges = 0;
+  for (int t = 0; t < 8; t++)
+    for (int c = 0; c < 3; c++) {
+      int from = prism->triangles[3 * t + c], to = prism->triangles[3 * t + (c + 1) % 3];
+      int low = from < to ? from : to, high = from < to ? to : from, e;
+      for (e = 0; e < num_edges; e++)
+        if (prism->edges[2 * e] == low && prism->edges[2 * e + 1] == high) break;
+      if (e == num_edges) {
+        prism->edges[2 * e] = low;
+        prism->edges[2 * e + 1] = high;
+        num_edges++;
+      }
+      prism->edge_triangles[2 * e + (from < to ? 0 : 1)] = t;
+    }
+  for (int t = 0; t < 8; t++) {
+    const int *tri = prism->triangles + 3 * t;
+    double f1[3], f2[3];
+    double *n = prism->face_normals + 3 * t;
+    if (shell_frame(prism->vertices + 3 * tri[0], prism->vertices + 3 * tri[1], prism->vertices + 3 * tri[2], f1, f2,
+                    n) <= 0.0)
+      return -1;
+  }
+  prism->view.num_vertices = 6;
+  prism->view.num_triangles = 8;
+  prism->view.num_edges = num_edges;
+  prism->view.vertices = prism->vertices;
+  prism->view.face_normals = prism->face_normals;
+  prism->view.triangles = prism->triangles;
+  prism->view.edges = prism->edges;
+  prism->view.edge_triangles = prism->edge_triangles;
+  prism->view.bounding_radius = sqrt(radius2);
+  return 0;
+}

@@ -1,0 +1,74 @@
+/* The solid behind an open triangle-mesh wall, as one prism per triangle, for
+ * the volumetric contact of a particle with a LIGGGHTS mesh (fix wall/polyhedral
+ * mesh ...).
+ *
+ * Each oriented triangle's normal points into the free space. Every mesh vertex
+ * gets one direction m, the angle-weighted mean of the unit normals of the
+ * triangles around it. The prism of a triangle (v0, v1, v2) is the solid
+ * between the triangle and its copy pushed back by the shell thickness h along
+ * the vertex directions, (v0 - h m0, v1 - h m1, v2 - h m2); its three side
+ * faces are the quads over the edges, each split into two triangles along the
+ * diagonal chosen from the two vertices' global numbers. Two triangles sharing
+ * an edge share the same side quad split the same way, so neighbouring prisms
+ * meet face to face: the prisms partition the shell with no volume counted
+ * twice and none left out, at shared edges and vertices alike, whatever the
+ * angle between the faces (convex or concave). A flat wall tessellated into
+ * many triangles gets vertical prisms, whose union is the slab under the plane:
+ * the same overlap as one plane. The shell is the mesh's solid only within the
+ * thickness h; at a sharp convex edge it reaches h cos(theta/2) behind the edge
+ * (theta the angle between the face normals) instead of h.
+ *
+ * Vertex directions are stored per triangle corner as coefficients (a, b, c) of
+ * m = a (v1 - v0) + b (v2 - v0) + c n in the triangle's own frame, so they
+ * follow rigid motions of the mesh (fix move/mesh) without any bookkeeping. */
+#ifndef POLY_MESH_SHELL_H
+#define POLY_MESH_SHELL_H
+
+#include <stddef.h>
+
+#include "poly_overlap.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct poly_mesh_shell {
+  int num_triangles;
+  int num_vertices;          /* after merging coincident corners */
+  int *vertex_ids;           /* 3 per triangle */
+  double *corner_directions; /* 9 per triangle: (a, b, c) per corner, see above */
+  int num_open_edges;        /* edges of one triangle only (the mesh's border) */
+  int num_misoriented_edges; /* shared edges run the same way in both triangles: flipped normals */
+  int num_nonmanifold_edges; /* edges of more than two triangles */
+  double min_corner_cosine;  /* smallest m . n over all corners: the steepest prism side */
+} poly_mesh_shell;
+
+/* corners: 9 doubles per triangle (v0, v1, v2), indexed by the mesh's global
+ * triangle number. Corners closer than relative_tolerance times the mesh's
+ * bounding-box diagonal are one vertex. Returns 0, or -1 with a message. */
+int poly_mesh_shell_build(const double *corners, int num_triangles, double relative_tolerance, poly_mesh_shell *shell,
+                          char *message, size_t message_size);
+void poly_mesh_shell_free(poly_mesh_shell *shell);
+
+/* One triangle's prism, as a closed shape for poly_overlap_d: 6 vertices,
+ * 8 triangles, 12 edges, relative to its own centroid (`origin`, world). */
+typedef struct poly_mesh_prism {
+  double origin[3];
+  double vertices[18];
+  double face_normals[24];
+  int triangles[24];
+  int edges[24];
+  int edge_triangles[24];
+  poly_shape_view_d view;
+} poly_mesh_prism;
+
+/* The prism of global triangle `triangle` whose current corners are `nodes`
+ * (world), thickness h. Returns 0, or -1 for a degenerate triangle. */
+int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3], double thickness,
+                          poly_mesh_prism *prism);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
