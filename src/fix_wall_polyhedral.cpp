@@ -86,11 +86,11 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     error->all(FLERR, "Fix wall/polyhedral: wall type out of range");
 
   vector_flag = 1;
-  size_vector = 4;
+  size_vector = 7;
   global_freq = 1;
   extvector = 1;
   restart_global = 0;
-  for (int k = 0; k < 4; k++) wall_force[k] = wall_force_all[k] = 0.0;
+  for (int k = 0; k < 7; k++) wall_force[k] = wall_force_all[k] = 0.0;
 
   history_id = new char[strlen(id) + 16];
   sprintf(history_id, "%s_history", id);
@@ -287,7 +287,7 @@ void FixWallPolyhedral::build_shells()
 void FixWallPolyhedral::setup(int)
 {
   force_summed = false;
-  for (int k = 0; k < 4; k++) wall_force[k] = 0.0;
+  for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
   if (meshes.empty()) apply_plane(false);
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, false);
 }
@@ -295,7 +295,7 @@ void FixWallPolyhedral::setup(int)
 void FixWallPolyhedral::post_force(int)
 {
   force_summed = false;
-  for (int k = 0; k < 4; k++) wall_force[k] = 0.0;
+  for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
   if (meshes.empty()) apply_plane(true);
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, true);
 }
@@ -329,6 +329,10 @@ void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, b
     force_on_particle[k] = -out.force_j[k];
   }
   wall_force[3] += 1.0;
+  // Torque on the wall about the origin: minus the torque the contact puts on the particle.
+  const double *p = x[i], *g = force_on_particle;
+  double moment[3] = {p[1] * g[2] - p[2] * g[1], p[2] * g[0] - p[0] * g[2], p[0] * g[1] - p[1] * g[0]};
+  for (int k = 0; k < 3; k++) wall_force[4 + k] -= moment[k] + out.torque_i[k];
 }
 
 void FixWallPolyhedral::apply_plane(bool advance_history)
@@ -524,11 +528,11 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) springs[i][slot + d] = 0.0;
 }
 
-// 1-3: force on the wall, 4: particle-wall contacts (summed over ranks).
+// 1-3: force on the wall, 4: particle-wall contacts, 5-7: torque on the wall about the origin (summed over ranks).
 double FixWallPolyhedral::compute_vector(int n)
 {
   if (!force_summed) {
-    MPI_Allreduce(wall_force, wall_force_all, 4, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(wall_force, wall_force_all, 7, MPI_DOUBLE, MPI_SUM, world);
     force_summed = true;
   }
   return wall_force_all[n];

@@ -74,7 +74,7 @@ class FixWallPolyhedral : public Fix {
   class PairPolyhedralVolumetric *pair;
   int use_tangential, use_damping;   // this wall's switches, resolved in init()
   std::vector<poly_material_pair> materials;  // (ntypes+1)^2, read with this wall's switches
-  double wall_force[4], wall_force_all[4];  // force on the wall (3), contacts
+  double wall_force[7], wall_force_all[7];  // force on the wall (3), contacts, torque on the wall (3)
   bool force_summed;
 };
 

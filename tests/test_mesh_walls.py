@@ -14,7 +14,7 @@ import pytest
 
 import decks
 import meshes
-from test_walls import DENSITY, EDGE, G, scene, static_depth
+from test_walls import DENSITY, EDGE, G, check_stick_or_slide, check_wall_impact, restart_on_a_wall, scene, static_depth
 
 MASS = DENSITY * EDGE ** 3
 
@@ -32,7 +32,7 @@ def test_cube_rests_on_a_mesh_floor_as_on_a_plane(run_deck, tmp_path, cells):
     and 98 triangles (10 x 10 and 7 x 7 grids of 20 and 28.6 mm cells, so the cube's face covers
     shared edges and vertices): the wall carries the weight and the cube sinks by the closed-form
     depth, within 1%, as on the zplane primitive; and the mesh floor gives the plane's depth to 1e-6."""
-    stl = meshes.write_stl(tmp_path / "floor.stl", meshes.grid(cells, 0.1))
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(cells, 0.1))
     pose = f"0.003 -0.002 {EDGE / 2} quat {math.cos(0.3)} 0 0 {math.sin(0.3)}"
     results = {}
     for name, wall in (("plane", "fix floor all wall/polyhedral primitive type 2 zplane 0.0\n"),
@@ -51,3 +51,194 @@ def test_cube_rests_on_a_mesh_floor_as_on_a_plane(run_deck, tmp_path, cells):
     assert abs(-force.mean() / (MASS * G) - 1) < 0.01, force.mean()
     assert abs(depth.mean() / static_depth(MASS) - 1) < 0.01, depth.mean()
     assert abs(depth.mean() / results["plane"][1].mean() - 1) < 1e-6
+
+
+@pytest.mark.parametrize("angle", [20.0, 35.0])
+def test_cube_sticks_or_slides_on_a_mesh_floor(run_deck, tmp_path, angle):
+    """tests/test_walls.py's tilted-plane test on a floor of 392 triangles (20 mm cells): gravity
+    turns to `angle` from the normal; tan(26.6 deg) = mu = 0.5. At 20 deg no creep (the particle's
+    spring for the mesh is one per particle and mesh, so crossing no edge loses it); at 35 deg the
+    cube slides over many shared edges with a = g (sin - mu cos), within 1% of mu."""
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(14, 0.14))
+    deck = scene(mesh_wall("../floor.stl"), f"-0.12 0.003 {EDGE / 2}", steps=5000)
+    deck += decks.tilted_gravity("all", angle) + "thermo 200\nrun 45000\n"
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode == 0, result.output[-3000:]
+    table = check_stick_or_slide(result, angle, " on a mesh")
+    assert all(c == 1 for c in result.thermo("f_floor[4]")["f_floor[4]"][1:])  # from the first step on
+    if angle > 30:
+        assert table["v_x"][-1] - table["v_x"][0] > 0.04   # over at least two cells
+
+
+def test_icosphere_impact_on_a_mesh_matches_liggghts_sphere_on_the_same_mesh(run_deck, tmp_path):
+    """tests/test_walls.py's check_wall_impact on a floor of 200 triangles, hitting at a shared vertex: the
+    icosphere of 1280 triangles with fix wall/polyhedral against LIGGGHTS' sphere with `fix wall/gran
+    model hertz tangential history mesh` on the same mesh. Same tolerances as on the plane (2%
+    duration, 1.5% restitution), whose measured +1.6% / +0.46% the mesh must reproduce."""
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(10, 0.1))
+    walls = "mesh n_meshes 1 meshes floor_mesh"
+    check_wall_impact(run_deck, tmp_path, "mesh impact", walls, walls,
+                      mesh="fix floor_mesh all mesh/surface file ../floor.stl type 2\n")
+
+
+def test_conveyor_mesh_carries_the_cube_at_its_speed(run_deck, tmp_path):
+    """A floor moving at 0.1 m/s along x (fix move/mesh linear): the resting cube is dragged by
+    friction and ends at the floor's speed; the wall velocity at the contact comes from the mesh's
+    vertex velocities."""
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(4, 0.25))
+    deck = scene(mesh_wall("../floor.stl") + "fix belt all move/mesh mesh floor_mesh linear 0.1 0 0\n",
+                 f"0 0 {EDGE / 2}", steps=20000)
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode == 0, result.output[-3000:]
+    table = result.thermo("Step", "v_x", "v_vx", "f_floor[1]")
+    # Once carried, the cube rocks on its tangential spring (+-1% in vx, weakly damped, as on a plane);
+    # over the second half of the run it moves with the belt.
+    half = table["Step"].index(10000)
+    speed = (table["v_x"][-1] - table["v_x"][half]) / ((table["Step"][-1] - table["Step"][half]) * 1e-5)
+    print(f"\nconveyor: cube's mean speed {speed:.7f} m/s over the last 0.1 s, floor 0.1")
+    assert abs(speed / 0.1 - 1) < 1e-3, speed
+    assert table["f_floor[1]"][1] < 0  # the belt is held back while it accelerates the cube
+
+
+def test_cube_stays_inside_a_shaken_closed_box(run_deck, tmp_path):
+    """A closed box of 48 triangles (100 mm, normals inwards) shaken by fix move/mesh wiggle (10 mm
+    at 50 Hz along x, 5 mm along z: up to 3 m/s) with the cube inside under gravity, 10^5 steps: the
+    cube's centre stays inside the moving box at every step printed, and it really is thrown about."""
+    meshes.write_stl(tmp_path / "box.stl", meshes.box(-0.05, 0.05, 2))
+    deck = scene("fix box_mesh all mesh/surface file ../box.stl type 2\n"
+                 "fix floor all wall/polyhedral mesh n_meshes 1 meshes box_mesh\n"
+                 "fix shake all move/mesh mesh box_mesh wiggle amplitude 0.01 0 0.005 period 0.02\n",
+                 "0.01 0.02 -0.02 quat 0.9 0.3 -0.2 0.25", steps=100000)
+    deck = deck.replace("thermo 1000\n", "thermo 100\n").replace(
+        "thermo_style custom step", "variable y equal y[1]\nthermo_style custom step atoms v_y")
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode == 0, result.output[-3000:]
+    table = result.thermo("Step", "Atoms", "v_x", "v_y", "v_z", "v_vx")
+    t = np.array(table["Step"]) * 1e-5
+    phase = np.sin(2 * math.pi * t / 0.02)
+    inside_x = np.abs(np.array(table["v_x"]) - 0.01 * phase)
+    inside_z = np.abs(np.array(table["v_z"]) - 0.005 * phase)
+    inside_y = np.abs(np.array(table["v_y"]))
+    deepest = max(inside_x.max(), inside_y.max(), inside_z.max())
+    print(f"\nshaken box: largest centre offset from the box centre {deepest * 1e3:.2f} mm (wall at 50 mm), "
+          f"largest |vx| {np.abs(table['v_vx']).max():.2f} m/s")
+    assert all(n == 1 for n in table["Atoms"])
+    assert deepest < 0.05
+    assert np.abs(table["v_vx"]).max() > 0.5
+
+
+def test_drum_torque_from_mesh_stress_is_minus_the_torque_on_the_particles(run_deck, tmp_path):
+    """A closed drum (radius 50 mm, 40 mm long, 128 triangles) turning about y (fix move/mesh rotate,
+    period 0.5 s) with 12 cubes of 10 mm in two layers, on 2 ranks: the torque fix mesh/surface/stress reports
+    (f_dmesh[4..6], about the origin) equals the torque on the wall that fix wall/polyhedral
+    sums from the particles' side (f_drum[5..7]) at every step printed, and the drum lifts the charge
+    (torque about y of the sign of the rotation's resistance)."""
+    meshes.write_stl(tmp_path / "drum.stl", meshes.drum(0.05, 0.04, 32))
+    cubes = "".join(f"create_polyhedron cube {x} {y} {z} quat 0.9 0.3 -0.2 0.25\n"
+                    for x in (-0.02, 0.0, 0.02) for y in (-0.008, 0.008) for z in (-0.03, -0.012))
+    deck = (decks.header(boundary="f f f", lo=-0.07, hi=0.07, ntypes=2, processors="2 1 1") +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n"
+            "fix m1 all property/global youngsModulus peratomtype 1e7 1e7\n"
+            "fix m2 all property/global poissonsRatio peratomtype 0.25 0.25\n"
+            "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
+            "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n" +
+            decks.template("cube", "cube.stl", scale=0.01, atom_type=1) +
+            "pair_style polyhedral/volumetric\npair_coeff * *\n"
+            "fix dmesh all mesh/surface/stress file ../drum.stl type 2\n"
+            "fix drum all wall/polyhedral mesh n_meshes 1 meshes dmesh\n"
+            "fix spin all move/mesh mesh dmesh rotate origin 0 0 0 axis 0 1 0 period 0.5\n" + cubes +
+            "fix integrate all nve/polyhedron\nfix gravity all gravity 9.81 vector 0 0 -1\n"
+            "thermo_style custom step atoms f_drum[4] f_drum[5] f_drum[6] f_drum[7] "
+            "f_dmesh[4] f_dmesh[5] f_dmesh[6]\n"
+            "thermo_modify format float %.15g\nthermo 500\ntimestep 1e-5\nrun 12000\n")
+    result = run_deck(deck, nprocs=2, workdir=tmp_path / "run")
+    assert result.returncode == 0, result.output[-3000:]
+    table = result.thermo("Step", "Atoms", *[f"f_drum[{k}]" for k in range(4, 8)],
+                          *[f"f_dmesh[{k}]" for k in range(4, 7)])
+    ours = np.array([table[f"f_drum[{k}]"] for k in (5, 6, 7)]).T[1:]
+    stress = np.array([table[f"f_dmesh[{k}]"] for k in (4, 5, 6)]).T[1:]
+    scale = np.abs(stress).max()
+    worst = np.abs(ours - stress).max()
+    print(f"\ndrum: torque about y {stress[-5:, 1].mean():.3e} N m (mean of the last 5 outputs), largest "
+          f"difference between fix mesh/surface/stress and the particles' side {worst:.1e} N m")
+    assert all(n == 12 for n in table["Atoms"])
+    assert table["f_drum[4]"][-1] >= 4  # the bottom layer of cubes rests on the drum
+    assert worst < 1e-9 * scale, (worst, scale)
+    assert scale > 1e-4
+
+
+def test_mesh_wall_history_survives_a_restart(run_deck, tmp_path):
+    """The cube held by friction on a mesh floor with gravity at 20 deg, restarted mid-hold: the
+    spring of its mesh contact comes back from the restart file, so the resumed run follows the
+    unbroken one (as tests/test_walls.py checks for the plane)."""
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(10, 0.1))
+    difference = restart_on_a_wall(run_deck, tmp_path, mesh_wall("../floor.stl"), 0.005)
+    print(f"\nrestart on a mesh: largest x difference {difference:.1e} m")
+    assert difference < 1e-12
+
+
+def test_mesh_contact_crosses_ranks(run_deck, tmp_path):
+    """The cube slides at 35 deg over a 392-triangle floor across the boundary x = 0 between two
+    ranks: its contact (pieces summed in global triangle order) and spring migrate with it, and the
+    run follows the single-rank one to round-off."""
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(14, 0.14))
+    tilt = math.radians(35.0)
+    deck = scene(mesh_wall("../floor.stl"), f"-0.008 0 {EDGE / 2}",
+                 gravity=f"{math.sin(tilt)!r} 0 {-math.cos(tilt)!r}", steps=15000)
+    one = run_deck(deck, workdir=tmp_path / "one")
+    two = run_deck(deck.replace("boundary f f f\n", "processors 2 1 1\nboundary f f f\n"), nprocs=2,
+                   workdir=tmp_path / "two")
+    assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
+    a, b = one.thermo("Step", "v_x", "f_floor[4]"), two.thermo("Step", "v_x", "f_floor[4]")
+    assert a["v_x"][0] < 0 < a["v_x"][-1], a["v_x"]
+    assert all(c == 1 for c in b["f_floor[4]"][1:])
+    worst = max(abs(x - y) for x, y in zip(a["v_x"], b["v_x"]))
+    print(f"\nmesh contact across ranks: x from {a['v_x'][0]:.4f} to {a['v_x'][-1]:.4f} m, largest 1 vs 2 rank "
+          f"difference {worst:.1e} m")
+    assert worst < 1e-12, worst
+
+
+def flipped_grid():
+    """A 4 x 4 grid with one triangle of an inner cell turned over: its three edges disagree."""
+    triangles = meshes.grid(4, 0.1)
+    a, b, c = triangles[10]
+    triangles[10] = (a, c, b)
+    return triangles
+
+
+@pytest.mark.parametrize("wall,mesh,line", [
+    ("fix floor all wall/polyhedral mesh n_meshes 1 meshes gravity\n", None,
+     "ERROR: Fix wall/polyhedral: fix 'gravity' is a gravity, not a fix mesh/surface"),
+    ("fix floor all wall/polyhedral mesh n_meshes 2 meshes floor_mesh\n", meshes.grid(1, 0.1),
+     "ERROR: Fix wall/polyhedral: 'mesh n_meshes K meshes' needs K >= 1 mesh IDs"),
+    ("fix floor all wall/polyhedral mesh n_meshes 1 meshes floor_mesh primitive type 2 zplane 0\n",
+     meshes.grid(1, 0.1), "ERROR: Fix wall/polyhedral: either 'primitive' or 'mesh', not both"),
+    ("fix floor all wall/polyhedral mesh n_meshes 1 meshes floor_mesh\n", flipped_grid(),
+     "WARNING: Fix wall/polyhedral: mesh 'floor_mesh': 3 shared edges run the same way in both triangles"),
+    ("fix floor all wall/polyhedral thickness 0.01 mesh n_meshes 1 meshes floor_mesh\n", meshes.grid(1, 0.1),
+     "WARNING: Fix wall/polyhedral: thickness 0.01 is less than the largest particle's bounding diameter"),
+])
+def test_bad_mesh_wall_input_is_reported(run_deck, tmp_path, wall, mesh, line):
+    """Clear ERROR lines for a mesh ID that is not a mesh, a wrong mesh count and two kinds of wall in
+    one fix; WARNING lines (the run goes on) for inconsistently oriented triangles and a shell thinner
+    than the particles."""
+    mesh_fix = ""
+    if mesh is not None:
+        meshes.write_stl(tmp_path / "floor.stl", mesh)
+        mesh_fix = "fix floor_mesh all mesh/surface file ../floor.stl type 2\n"
+    deck = scene(mesh_fix + wall, f"0 0 {EDGE / 2}", steps=10)
+    # The gravity fix must exist before the wall names it.
+    deck = deck.replace(f"fix gravity all gravity {G} vector 0 0 -1\n", "")
+    deck = deck.replace(mesh_fix + wall, f"fix gravity all gravity {G} vector 0 0 -1\n" + mesh_fix + wall)
+    result = run_deck(deck, workdir=tmp_path / "run")
+    matching = [text for text in result.output.splitlines() if text.startswith(line)]
+    assert matching, result.output[-3000:]
+    assert (result.returncode != 0) == line.startswith("ERROR"), result.output[-2000:]
+
+
+def test_mesh_walls_need_binned_neighbour_lists(run_deck, tmp_path):
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(1, 0.1))
+    deck = scene(mesh_wall("../floor.stl"), f"0 0 {EDGE / 2}", steps=10).replace("neighbor 0.002 bin", "neighbor 0.002 nsq")
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode != 0
+    assert any("bin" in text for text in result.error_lines()), result.output[-2000:]
