@@ -405,14 +405,8 @@ void FixWallPolyhedral::collect_pieces(int m)
       piece.particle = i;
       piece.triangle = j;
       piece.triangle_id = mesh->id(j);
-      piece.volume = geometry.volume;
-      piece.depth = geometry.depth;
-      for (int k = 0; k < 3; k++) {
-        piece.centroid[k] = geometry.centroid[k];
-        piece.normal[k] = geometry.normal[k];
-        piece.area_vector[k] = geometry.normal[k] * geometry.projected_area;
-        piece.wall_velocity[k] = 0.0;
-      }
+      piece.geometry = geometry;
+      for (int k = 0; k < 3; k++) piece.wall_velocity[k] = 0.0;
       if (vertex_velocity) {
         // Barycentric coordinates of the centroid's foot on the triangle's plane (exact for rigid motions within
         // the plane; the offset along the normal is of the order of the overlap depth).
@@ -420,7 +414,7 @@ void FixWallPolyhedral::collect_pieces(int m)
         for (int k = 0; k < 3; k++) {
           e1[k] = corners[1][k] - corners[0][k];
           e2[k] = corners[2][k] - corners[0][k];
-          r[k] = piece.centroid[k] - corners[0][k];
+          r[k] = geometry.centroid[k] - corners[0][k];
         }
         double g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2],
                g22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
@@ -448,8 +442,7 @@ static bool piece_order(const FixWallPolyhedral::MeshPiece &a, const FixWallPoly
   return a.triangle_id < b.triangle_id;
 }
 
-// One contact per particle and mesh: the pieces' volumes, first moments and area vectors add up (the prisms
-// partition the shell); the depth is the largest piece depth along the summed normal.
+// One contact per particle and mesh from its pieces (poly_mesh_contact_combine).
 void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
 {
   collect_pieces(m);
@@ -457,67 +450,44 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
   std::sort(pieces.begin(), pieces.end(), piece_order);
   double **springs = history->array_atom;
   const int nlocal = atom->nlocal, slot = POLY_HISTORY_SIZE * m;
-  std::vector<char> touching(nlocal, 0);
+  touching.assign(nlocal, 0);
   for (size_t first = 0; first < pieces.size();) {
     size_t last = first;
     while (last + 1 < pieces.size() && pieces[last + 1].particle == pieces[first].particle) last++;
     int i = pieces[first].particle;
-    double volume = 0.0, moment[3] = {0, 0, 0}, area[3] = {0, 0, 0}, weighted_normal[3] = {0, 0, 0},
-           velocity[3] = {0, 0, 0};
+    particle_pieces.clear();
+    piece_first_node.clear();
+    piece_num_nodes.clear();
+    double velocity[3] = {0, 0, 0};
     for (size_t p = first; p <= last; p++) {
       const MeshPiece &piece = pieces[p];
-      volume += piece.volume;
-      for (int k = 0; k < 3; k++) {
-        moment[k] += piece.volume * piece.centroid[k];
-        area[k] += piece.area_vector[k];
-        weighted_normal[k] += piece.volume * piece.normal[k];
-        velocity[k] += piece.volume * piece.wall_velocity[k];
-      }
+      particle_pieces.push_back(piece.geometry);
+      piece_first_node.push_back(piece.first_node);
+      piece_num_nodes.push_back(piece.num_nodes);
+      for (int k = 0; k < 3; k++) velocity[k] += piece.geometry.volume * piece.wall_velocity[k];
     }
-    double centroid[3], normal[3];
-    double length = sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2]);
-    // A particle wholly inside the shell has no surface inside it that sums to a direction.
-    const double *direction = length > 0.0 ? area : weighted_normal;
-    if (length <= 0.0) length = sqrt(direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2]);
-    for (int k = 0; k < 3; k++) {
-      centroid[k] = moment[k] / volume;
-      velocity[k] /= volume;
-      normal[k] = direction[k] / length;
-    }
-    // Depth: the extent of the union of the pieces' nodes along the contact normal.
-    double low = 1e300, high = -1e300, fallback = 0.0;
-    for (size_t p = first; p <= last; p++) {
-      const MeshPiece &piece = pieces[p];
-      if (piece.num_nodes < 0) {
-        double along = piece.normal[0] * normal[0] + piece.normal[1] * normal[1] + piece.normal[2] * normal[2];
-        fallback = std::max(fallback, piece.depth * along);
-        continue;
-      }
-      for (int q = 0; q < piece.num_nodes; q++) {
-        const double *y = &nodes[3 * (size_t)(piece.first_node + q)];
-        double along = y[0] * normal[0] + y[1] * normal[1] + y[2] * normal[2];
-        low = std::min(low, along);
-        high = std::max(high, along);
-      }
-    }
-    double depth = std::max(high > low ? high - low : 0.0, fallback);
+    poly_overlap_result contact;
+    poly_mesh_contact_combine(&particle_pieces[0], nodes.empty() ? NULL : &nodes[0], &piece_first_node[0],
+                              &piece_num_nodes[0], (int)particle_pieces.size(), &contact);
+    double volume = contact.volume;
+    for (int k = 0; k < 3; k++) velocity[k] /= volume;
     size_t begin = first;
     first = last + 1;
-    if (!(volume > 1e-12 * atom->rmass[i] / atom->density[i]) || !(depth > 0.0)) continue;
+    if (!(volume > 1e-12 * atom->rmass[i] / atom->density[i]) || !(contact.depth > 0.0)) continue;
     touching[i] = 1;
     double force[3];
     FixMeshSurface *mesh = meshes[m];
-    apply_contact(i, mesh->atomTypeWall(), springs[i] + slot, advance_history, volume, depth, normal, centroid,
-                  velocity, force);
+    apply_contact(i, mesh->atomTypeWall(), springs[i] + slot, advance_history, volume, contact.depth, contact.normal,
+                  contact.centroid, velocity, force);
     if (!advance_history) continue;
     // Each triangle carries its share of the force, by volume, at its piece's centroid (so the torque on the
     // mesh sums to the whole force at the contact centroid); LIGGGHTS' stress module turns the sign.
     for (size_t p = begin; p <= last; p++) {
       MeshPiece &piece = pieces[p];
-      double share = piece.volume / volume, on_particle[3], arm[3];
+      double share = piece.geometry.volume / volume, on_particle[3], arm[3];
       for (int k = 0; k < 3; k++) {
         on_particle[k] = share * force[k];
-        arm[k] = piece.centroid[k] - atom->x[i][k];
+        arm[k] = piece.geometry.centroid[k] - atom->x[i][k];
       }
       mesh->add_particle_contribution(i, on_particle, arm, piece.triangle, piece.wall_velocity);
     }

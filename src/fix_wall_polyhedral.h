@@ -43,8 +43,9 @@ class FixWallPolyhedral : public Fix {
   // One triangle's share of a particle's contact with a mesh.
   struct MeshPiece {
     int particle, triangle, triangle_id;  // local atom, local and global triangle
-    double volume, depth, centroid[3], normal[3], area_vector[3], wall_velocity[3];
-    int first_node, num_nodes;  // in `nodes`; num_nodes < 0: not kept (then `depth` stands in)
+    poly_overlap_result geometry;         // the particle's overlap with the triangle's prism
+    double wall_velocity[3];              // at the piece's centroid
+    int first_node, num_nodes;            // in `nodes`; num_nodes < 0: not kept
   };
 
  private:
@@ -68,6 +69,9 @@ class FixWallPolyhedral : public Fix {
   bool have_workspace;
   std::vector<MeshPiece> pieces;
   std::vector<double> nodes;   // of all pieces, world frame relative to their particle
+  std::vector<poly_overlap_result> particle_pieces;  // one particle's pieces at a time
+  std::vector<int> piece_first_node, piece_num_nodes;
+  std::vector<char> touching;  // per local particle, for the current mesh
   int tangential, damping;   // -1: as the pair style
   char *history_id;
   class FixPropertyAtom *history;

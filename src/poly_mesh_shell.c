@@ -262,3 +262,46 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
   prism->view.bounding_radius = sqrt(radius2);
   return 0;
 }
+
+void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *nodes, const int *first_node,
+                               const int *num_nodes, int count, poly_overlap_result *contact)
+{
+  memset(contact, 0, sizeof *contact);
+  double moment[3] = {0, 0, 0}, area[3] = {0, 0, 0}, weighted[3] = {0, 0, 0};
+  for (int p = 0; p < count; p++) {
+    const poly_overlap_result *piece = pieces + p;
+    contact->volume += piece->volume;
+    contact->area += piece->area;
+    contact->num_nodes += piece->num_nodes;
+    contact->num_inconsistent += piece->num_inconsistent;
+    for (int k = 0; k < 3; k++) {
+      moment[k] += piece->volume * piece->centroid[k];
+      area[k] += piece->projected_area * piece->normal[k];
+      weighted[k] += piece->volume * piece->normal[k];
+    }
+  }
+  if (!(contact->volume > 0.0)) return;
+  double length = sqrt(shell_dot(area, area));
+  contact->projected_area = length;
+  const double *direction = length > 1e-9 * contact->area && length > 0.0 ? area : weighted;
+  length = sqrt(shell_dot(direction, direction));
+  for (int k = 0; k < 3; k++) {
+    contact->centroid[k] = moment[k] / contact->volume;
+    contact->normal[k] = length > 0.0 ? direction[k] / length : 0.0;
+  }
+  double low = 1e300, high = -1e300, fallback = 0.0;
+  for (int p = 0; p < count; p++) {
+    if (num_nodes[p] < 0) {
+      double along = pieces[p].depth * shell_dot(pieces[p].normal, contact->normal);
+      if (along > fallback) fallback = along;
+      continue;
+    }
+    for (int q = 0; q < num_nodes[p]; q++) {
+      double along = shell_dot(nodes + 3 * (first_node[p] + q), contact->normal);
+      if (along < low) low = along;
+      if (along > high) high = along;
+    }
+  }
+  contact->depth = high > low ? high - low : 0.0;
+  if (fallback > contact->depth) contact->depth = fallback;
+}

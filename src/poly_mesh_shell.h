@@ -67,6 +67,16 @@ typedef struct poly_mesh_prism {
 int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3], double thickness,
                           poly_mesh_prism *prism);
 
+/* One contact from a particle's overlaps with several prisms of a shell (poly_overlap_d with the particle
+ * as A): volumes, first moments and area vectors add up, as the prisms partition the shell; the normal is
+ * the summed area vector's direction (the volume-weighted mean of the pieces' normals when that sums to
+ * nothing: a particle wholly inside the shell); the depth is the extent of the union of the pieces' nodes
+ * along that normal. Piece k's nodes (poly_overlap_nodes_d, relative to the particle) are
+ * nodes[3 * first_node[k] ...], num_nodes[k] of them; num_nodes[k] < 0 (not kept) lets its own depth,
+ * projected on the normal, stand in. */
+void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *nodes, const int *first_node,
+                               const int *num_nodes, int count, poly_overlap_result *contact);
+
 #ifdef __cplusplus
 }
 #endif
