@@ -213,6 +213,10 @@ void FixWallPolyhedral::init()
   if (poly_overlap_workspace_create_d(&workspace, max_vertices, max_triangles) != 0)
     error->one(FLERR, "Fix wall/polyhedral: out of memory for the overlap workspace");
   have_workspace = true;
+  if (!shells.empty() && shells[0].thickness != shell_thickness) {
+    for (size_t m = 0; m < shells.size(); m++) poly_mesh_shell_free(&shells[m]);
+    shells.clear();
+  }
   if (shells.empty()) build_shells();
 }
 
@@ -256,7 +260,7 @@ void FixWallPolyhedral::build_shells()
       error->all(FLERR, message);
     }
     poly_mesh_shell shell;
-    if (poly_mesh_shell_build(&corners[0], total, 1e-8, &shell, text, sizeof text) != 0) {
+    if (poly_mesh_shell_build(&corners[0], total, shell_thickness, 1e-8, &shell, text, sizeof text) != 0) {
       snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': %s", mesh_ids[m].c_str(), text);
       error->all(FLERR, message);
     }
@@ -272,6 +276,13 @@ void FixWallPolyhedral::build_shells()
     if (shell.num_nonmanifold_edges > 0) {
       snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': %d edges belong to more than two triangles",
                mesh_ids[m].c_str(), shell.num_nonmanifold_edges);
+      error->warning(FLERR, message);
+    }
+    if (shell.min_depth_fraction < 0.5 || shell.num_folded > 0) {
+      snprintf(message, sizeof message,
+               "Fix wall/polyhedral: mesh '%s': triangles next to sharp edges are narrow for a shell %g thick: it is "
+               "%.2g of that deep there%s%d triangles have no shell (their prisms fold)", mesh_ids[m].c_str(),
+               shell_thickness, shell.min_depth_fraction, shell.num_folded ? "; " : "; ", shell.num_folded);
       error->warning(FLERR, message);
     }
     if (shell.min_corner_cosine < 0.2) {
@@ -385,7 +396,7 @@ void FixWallPolyhedral::collect_pieces(int m)
     double corners[3][3];
     for (int k = 0; k < 3; k++) mesh->node(j, k, corners[k]);
     poly_mesh_prism prism;
-    if (poly_mesh_shell_prism(&shells[m], mesh->id(j), corners, shell_thickness, &prism) != 0) continue;
+    if (poly_mesh_shell_prism(&shells[m], mesh->id(j), corners, &prism) != 0) continue;
     const double *top_normal = prism.face_normals;
     poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
     for (size_t c = 0; c < candidates.size(); c++) {

@@ -68,11 +68,122 @@ static void shell_count_edges(poly_mesh_shell *shell, shell_edge *edges, int cou
   }
 }
 
-int poly_mesh_shell_build(const double *corners, int num_triangles, double relative_tolerance, poly_mesh_shell *shell,
-                          char *message, size_t message_size)
+static int shell_faces_out(const double *p, const double *q, const double *r, const double outward[3])
+{
+  double f1[3], f2[3], n[3];
+  shell_sub(q, p, f1);
+  shell_sub(r, p, f2);
+  shell_cross(f1, f2, n);
+  return shell_dot(n, outward) > 0.0;
+}
+
+/* The side quad (b, a, a_low, b_low) over the top edge a -> b, split along the diagonal a - b_low
+ * (diagonal 1: triangles (b, a, b_low), (a, a_low, b_low)) or b - a_low (diagonal 2: (b, a, a_low),
+ * (b, a_low, b_low)): 1 if both triangles face `outward`. */
+static int shell_split_faces_out(const double *b, const double *a, const double *a_low, const double *b_low,
+                                 const double outward[3], int diagonal)
+{
+  if (diagonal == 1) return shell_faces_out(b, a, b_low, outward) && shell_faces_out(a, a_low, b_low, outward);
+  return shell_faces_out(b, a, a_low, outward) && shell_faces_out(b, a_low, b_low, outward);
+}
+
+/* 1 if that split's two triangles face the same way (the quad does not fold along the diagonal): a test
+ * of the four corners alone, so the prisms on both sides of the quad decide alike. */
+static int shell_split_flat(const double *b, const double *a, const double *a_low, const double *b_low, int diagonal)
+{
+  const double *p[2][3] = {{b, a, b_low}, {a, a_low, b_low}}, *q[2][3] = {{b, a, a_low}, {b, a_low, b_low}};
+  const double *(*t)[3] = diagonal == 1 ? p : q;
+  double n[2][3];
+  for (int k = 0; k < 2; k++) {
+    double f1[3], f2[3];
+    shell_sub(t[k][1], t[k][0], f1);
+    shell_sub(t[k][2], t[k][0], f2);
+    shell_cross(f1, f2, n[k]);
+  }
+  return shell_dot(n[0], n[1]) > 0.0;
+}
+
+static void shell_edge_outward(const double *a, const double *b, const double normal[3], double outward[3])
+{
+  double edge[3];
+  shell_sub(b, a, edge);
+  shell_cross(edge, normal, outward);
+}
+
+/* 1 if the prism over top corners v with bottom corners b is a proper solid: the bottom faces the same way
+ * as the top, and every side quad has a split (a non-convex quad only one) whose triangles face outward. */
+static int shell_prism_unfolded(const double v[3][3], const double b[3][3])
+{
+  double e1[3], e2[3], normal[3], bottom_e1[3], bottom_e2[3], bottom[3];
+  shell_frame(v[0], v[1], v[2], e1, e2, normal);
+  shell_sub(b[1], b[0], bottom_e1);
+  shell_sub(b[2], b[0], bottom_e2);
+  shell_cross(bottom_e1, bottom_e2, bottom);
+  if (!(shell_dot(bottom, normal) > 0.0)) return 0;
+  for (int c = 0; c < 3; c++) {
+    int next = (c + 1) % 3;
+    double outward[3];
+    shell_edge_outward(v[c], v[next], normal, outward);
+    if (!shell_split_faces_out(v[next], v[c], b[c], b[next], outward, 1) &&
+        !shell_split_faces_out(v[next], v[c], b[c], b[next], outward, 2))
+      return 0;
+  }
+  return 1;
+}
+
+/* Triangle t's top and bottom corners at the vertex depths during the build; 1 if its prism is unfolded. */
+static int shell_build_prism_unfolded(const poly_mesh_shell *shell, const double *corners,
+                                      const double *vertex_directions, const double *depth, int t, double v[3][3],
+                                      double b[3][3])
+{
+  const int *ids = shell->vertex_ids + 3 * t;
+  for (int c = 0; c < 3; c++)
+    for (int k = 0; k < 3; k++) {
+      v[c][k] = corners[9 * t + 3 * c + k];
+      b[c][k] = v[c][k] - shell->thickness * depth[ids[c]] * vertex_directions[3 * ids[c] + k];
+    }
+  return shell_prism_unfolded((const double (*)[3])v, (const double (*)[3])b);
+}
+
+/* Vertex depths (fractions of h): shrunk where a triangle's full-depth prism folds, until none does. */
+static void shell_limit_depths(poly_mesh_shell *shell, const double *corners, const double *vertex_directions,
+                               double *depth)
+{
+  for (int i = 0; i < shell->num_vertices; i++) depth[i] = 1.0;
+  for (int pass = 0; pass < 200; pass++) {
+    int changed = 0;
+    for (int t = 0; t < shell->num_triangles; t++) {
+      double v[3][3], b[3][3];
+      const int *ids = shell->vertex_ids + 3 * t;
+      if (shell_build_prism_unfolded(shell, corners, vertex_directions, depth, t, v, b)) continue;
+      /* Corners whose direction leans away from the face normal push the bottom sideways: they give
+       * way most. The others give a little too, which also ends exact coincidences (a bottom corner
+       * on the line of a side quad's diagonal) that no shrinking of the leaning corners alone ends. */
+      double e1[3], e2[3], normal[3];
+      shell_frame(v[0], v[1], v[2], e1, e2, normal);
+      for (int c = 0; c < 3; c++)
+        depth[ids[c]] *= shell_dot(vertex_directions + 3 * ids[c], normal) < 1.0 - 1e-9 ? 0.9 : 0.97;
+      changed = 1;
+    }
+    if (!changed) break;
+  }
+  shell->min_depth_fraction = 1.0;
+  for (int i = 0; i < shell->num_vertices; i++)
+    if (depth[i] < shell->min_depth_fraction) shell->min_depth_fraction = depth[i];
+  shell->num_folded = 0;
+  for (int t = 0; t < shell->num_triangles; t++) {
+    double v[3][3], b[3][3];
+    shell->num_folded += !shell_build_prism_unfolded(shell, corners, vertex_directions, depth, t, v, b);
+  }
+}
+
+int poly_mesh_shell_build(const double *corners, int num_triangles, double thickness, double relative_tolerance,
+                          poly_mesh_shell *shell, char *message, size_t message_size)
 {
   memset(shell, 0, sizeof *shell);
   shell->min_corner_cosine = 1.0;
+  shell->thickness = thickness;
+  double *depth = NULL;
   if (num_triangles <= 0) {
     snprintf(message, message_size, "the mesh has no triangles");
     return -1;
@@ -131,14 +242,21 @@ int poly_mesh_shell_build(const double *corners, int num_triangles, double relat
       goto failed;
     }
 
-  /* Each corner's direction in its triangle's frame: m = a e1 + b e2 + c n. */
+  depth = (double *)malloc(sizeof(double) * (size_t)soup.num_vertices);
+  if (!depth) goto out_of_memory;
+  shell_limit_depths(shell, corners, vertex_directions, depth);
+
+  /* Each corner's direction in its triangle's frame, times its depth: m = a e1 + b e2 + c n. */
   for (int t = 0; t < num_triangles; t++) {
     const double *v = corners + 9 * t;
     double e1[3], e2[3], normal[3];
     shell_frame(v, v + 3, v + 6, e1, e2, normal);
     double g11 = shell_dot(e1, e1), g12 = shell_dot(e1, e2), g22 = shell_dot(e2, e2), det = g11 * g22 - g12 * g12;
     for (int c = 0; c < 3; c++) {
-      const double *m = vertex_directions + 3 * shell->vertex_ids[3 * t + c];
+      const int id = shell->vertex_ids[3 * t + c];
+      const double *unit = vertex_directions + 3 * id;
+      if (shell_dot(unit, normal) < shell->min_corner_cosine) shell->min_corner_cosine = shell_dot(unit, normal);
+      double m[3] = {depth[id] * unit[0], depth[id] * unit[1], depth[id] * unit[2]};
       double along = shell_dot(m, normal);
       double in_plane[3] = {m[0] - along * normal[0], m[1] - along * normal[1], m[2] - along * normal[2]};
       double r1 = shell_dot(in_plane, e1), r2 = shell_dot(in_plane, e2);
@@ -146,10 +264,10 @@ int poly_mesh_shell_build(const double *corners, int num_triangles, double relat
       coefficients[0] = (g22 * r1 - g12 * r2) / det;
       coefficients[1] = (g11 * r2 - g12 * r1) / det;
       coefficients[2] = along;
-      if (along < shell->min_corner_cosine) shell->min_corner_cosine = along;
     }
   }
   shell_count_edges(shell, edges, 3 * num_triangles);
+  free(depth);
   free(vertex_directions);
   free(edges);
   free(soup.vertices);
@@ -158,6 +276,7 @@ int poly_mesh_shell_build(const double *corners, int num_triangles, double relat
 out_of_memory:
   snprintf(message, message_size, "out of memory for a mesh of %d triangles", num_triangles);
 failed:
+  free(depth);
   free(vertex_directions);
   free(edges);
   free(soup.vertices);
@@ -184,9 +303,10 @@ static int prism_add_triangle(int *triangles, int count, int a, int b, int c)
   return count + 1;
 }
 
-int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3], double thickness,
+int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3],
                           poly_mesh_prism *prism)
 {
+  const double thickness = shell->thickness;
   double e1[3], e2[3], normal[3];
   if (shell_frame(nodes[0], nodes[1], nodes[2], e1, e2, normal) <= 0.0) return -1;
   double corner[6][3];
@@ -197,6 +317,10 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
       corner[c][k] = nodes[c][k];
       corner[c + 3][k] = nodes[c][k] - thickness * m;
     }
+  }
+  {
+    const double (*top)[3] = (const double (*)[3])corner, (*bottom)[3] = (const double (*)[3])(corner + 3);
+    if (!shell_prism_unfolded(top, bottom)) return -1;
   }
   for (int k = 0; k < 3; k++) {
     double sum = 0.0;
@@ -217,9 +341,12 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
   count = prism_add_triangle(prism->triangles, count, 3, 5, 4);
   for (int c = 0; c < 3; c++) {
     int a = c, b = (c + 1) % 3;
-    /* The diagonal starts at the top vertex of the lower global number, so the
-     * prism across this edge splits the shared quad the same way. */
-    if (ids[a] < ids[b]) {
+    /* The diagonal starts at the top vertex of the lower global number, so the prism across this edge
+     * splits the shared quad the same way; unless the quad folds along that diagonal (a non-convex
+     * quad), then the other, which the prism across decides alike from the same four corners. */
+    int diagonal = ids[a] < ids[b] ? 1 : 2;
+    if (!shell_split_flat(corner[b], corner[a], corner[a + 3], corner[b + 3], diagonal)) diagonal = 3 - diagonal;
+    if (diagonal == 1) {
       count = prism_add_triangle(prism->triangles, count, b, a, b + 3);
       count = prism_add_triangle(prism->triangles, count, a, a + 3, b + 3);
     } else {

@@ -16,7 +16,11 @@
  * many triangles gets vertical prisms, whose union is the slab under the plane:
  * the same overlap as one plane. The shell is the mesh's solid only within the
  * thickness h; at a sharp convex edge it reaches h cos(theta/2) behind the edge
- * (theta the angle between the face normals) instead of h.
+ * (theta the angle between the face normals) instead of h. Where triangles
+ * next to a sharp edge are narrower than the shell is thick, a full-depth
+ * prism would fold over itself; there the vertices' depths shrink (shared by
+ * all the triangles around a vertex, so prisms still meet face to face) until
+ * every prism is a proper solid.
  *
  * Vertex directions are stored per triangle corner as coefficients (a, b, c) of
  * m = a (v1 - v0) + b (v2 - v0) + c n in the triangle's own frame, so they
@@ -36,18 +40,22 @@ typedef struct poly_mesh_shell {
   int num_triangles;
   int num_vertices;          /* after merging coincident corners */
   int *vertex_ids;           /* 3 per triangle */
-  double *corner_directions; /* 9 per triangle: (a, b, c) per corner, see above */
+  double thickness;          /* h */
+  double *corner_directions; /* 9 per triangle: (a, b, c) per corner, see above, times the vertex's depth / h */
   int num_open_edges;        /* edges of one triangle only (the mesh's border) */
   int num_misoriented_edges; /* shared edges run the same way in both triangles: flipped normals */
   int num_nonmanifold_edges; /* edges of more than two triangles */
   double min_corner_cosine;  /* smallest m . n over all corners: the steepest prism side */
+  double min_depth_fraction; /* smallest vertex depth / h (1: full depth everywhere) */
+  int num_folded;            /* triangles whose prism stays folded (then skipped) */
 } poly_mesh_shell;
 
 /* corners: 9 doubles per triangle (v0, v1, v2), indexed by the mesh's global
- * triangle number. Corners closer than relative_tolerance times the mesh's
- * bounding-box diagonal are one vertex. Returns 0, or -1 with a message. */
-int poly_mesh_shell_build(const double *corners, int num_triangles, double relative_tolerance, poly_mesh_shell *shell,
-                          char *message, size_t message_size);
+ * triangle number; thickness: h. Corners closer than relative_tolerance times
+ * the mesh's bounding-box diagonal are one vertex. Returns 0, or -1 with a
+ * message. */
+int poly_mesh_shell_build(const double *corners, int num_triangles, double thickness, double relative_tolerance,
+                          poly_mesh_shell *shell, char *message, size_t message_size);
 void poly_mesh_shell_free(poly_mesh_shell *shell);
 
 /* One triangle's prism, as a closed shape for poly_overlap_d: 6 vertices,
@@ -63,8 +71,8 @@ typedef struct poly_mesh_prism {
 } poly_mesh_prism;
 
 /* The prism of global triangle `triangle` whose current corners are `nodes`
- * (world), thickness h. Returns 0, or -1 for a degenerate triangle. */
-int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3], double thickness,
+ * (world). Returns 0, or -1 for a degenerate triangle or a folded prism. */
+int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3],
                           poly_mesh_prism *prism);
 
 /* One contact from a particle's overlaps with several prisms of a shell (poly_overlap_d with the particle

@@ -39,7 +39,8 @@ import overlap_reference as ref  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHAPES = os.path.join(ROOT, "examples", "shapes")
-SOURCES = [os.path.join(ROOT, "src", name) for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c")]
+SOURCES = [os.path.join(ROOT, "src", name)
+           for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_mesh_shell.c")]
 
 # ---------------------------------------------------------------------------------------------
 # A small C shim over the public API (poly_shape_load, views, workspaces, poly_overlap_d/f),
@@ -49,6 +50,7 @@ SHIM_SOURCE = r"""
 #include <stdlib.h>
 #include "poly_overlap.h"
 #include "poly_halfspace.h"
+#include "poly_mesh_shell.h"
 
 typedef struct shim_shape {
   poly_shape shape;
@@ -132,6 +134,55 @@ void shim_overlap(const void *a, const double *pose_a, const void *b, const doub
   shim_write_result(&r, out);
 }
 
+/* The shape at `pose` against the shell of thickness h behind a triangle soup (9 doubles per triangle),
+ * as fix wall/polyhedral's mesh walls: out as shim_overlap, out[12] the pieces, out[13] the projected
+ * area. Returns 0, or -1 if the shell cannot be built. */
+int shim_mesh_wall(const void *a, const double *pose, const double *corners, int num_triangles, double thickness,
+                   double *out)
+{
+  poly_mesh_shell shell;
+  char message[256];
+  if (poly_mesh_shell_build(corners, num_triangles, thickness, 1e-8, &shell, message, sizeof message) != 0) return -1;
+  poly_pose pa;
+  for (int k = 0; k < 3; k++) pa.position[k] = pose[k];
+  for (int k = 0; k < 4; k++) pa.quaternion[k] = pose[3 + k];
+  poly_overlap_result *pieces = (poly_overlap_result *)malloc(sizeof(poly_overlap_result) * num_triangles);
+  int *first = (int *)malloc(sizeof(int) * num_triangles), *count = (int *)malloc(sizeof(int) * num_triangles);
+  int used = 0, capacity = 1024, num_pieces = 0;
+  double *nodes = (double *)malloc(sizeof(double) * 3 * capacity);
+  workspace_d.use_filter = 1;
+  for (int t = 0; t < num_triangles; t++) {
+    double triangle[3][3];
+    for (int c = 0; c < 9; c++) triangle[c / 3][c % 3] = corners[9 * t + c];
+    poly_mesh_prism prism;
+    if (poly_mesh_shell_prism(&shell, t, triangle, &prism) != 0) continue;
+    poly_pose pb = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
+    poly_overlap_result r;
+    poly_overlap_d(&((const shim_shape *)a)->view_d, &pa, &prism.view, &pb, &workspace_d, &r);
+    if (!(r.volume > 0.0)) continue;
+    while (used + workspace_d.num_points > capacity) {
+      capacity *= 2;
+      nodes = (double *)realloc(nodes, sizeof(double) * 3 * capacity);
+    }
+    pieces[num_pieces] = r;
+    first[num_pieces] = used;
+    count[num_pieces] = poly_overlap_nodes_d(&workspace_d, &pa, nodes + 3 * used, capacity - used);
+    if (count[num_pieces] > 0) used += count[num_pieces];
+    num_pieces++;
+  }
+  poly_overlap_result contact;
+  poly_mesh_contact_combine(pieces, nodes, first, count, num_pieces, &contact);
+  shim_write_result(&contact, out);
+  out[12] = num_pieces;
+  out[13] = contact.projected_area;
+  free(pieces);
+  free(first);
+  free(count);
+  free(nodes);
+  poly_mesh_shell_free(&shell);
+  return 0;
+}
+
 /* The shape at `pose` against the wall solid {x : normal.x < offset}; out as shim_overlap. */
 void shim_halfspace(const void *a, const double *pose, const double *normal, double offset, double *out)
 {
@@ -174,6 +225,8 @@ class Library:
         lib.shim_overlap.restype = None
         lib.shim_halfspace.argtypes = [ctypes.c_void_p, DOUBLES, DOUBLES, ctypes.c_double, DOUBLES]
         lib.shim_halfspace.restype = None
+        lib.shim_mesh_wall.argtypes = [ctypes.c_void_p, DOUBLES, DOUBLES, ctypes.c_int, ctypes.c_double, DOUBLES]
+        lib.shim_mesh_wall.restype = ctypes.c_int
         assert lib.shim_init(self.MAX_VERTICES, self.MAX_TRIANGLES) == 0
         self.shapes = {}
 
@@ -189,6 +242,18 @@ class Library:
         self.lib.shim_overlap(a.handle, poses[0], b.handle, poses[1], "dfm".index(precision), use_filter, out)
         return Result(list(out))
 
+
+    def mesh_wall(self, a, pose, triangles, thickness):
+        """a at pose against the shell of thickness `thickness` behind the triangles ((3, 3) arrays)."""
+        corners = np.asarray(triangles, dtype=float).reshape(-1)
+        out = (ctypes.c_double * 14)()
+        status = self.lib.shim_mesh_wall(a.handle, (ctypes.c_double * 7)(*[float(x) for x in list(pose[0]) + list(pose[1])]),
+                                         (ctypes.c_double * len(corners))(*corners), len(corners) // 9,
+                                         float(thickness), out)
+        assert status == 0
+        result = Result(list(out))
+        result.pieces, result.projected_area = int(out[12]), out[13]
+        return result
 
     def halfspace(self, a, pose, normal, offset):
         """a at pose against the wall solid {x : normal.x < offset}."""
