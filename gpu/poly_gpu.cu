@@ -8,7 +8,18 @@
  * kernel evaluates overlap and contact law for the listed pairs, writing a
  * per-pair force and torques (no atomics on particles, so the sums are
  * deterministic); (3) a reduction kernel sums each particle's pair
- * contributions in a fixed order through a CSR index built at set-up. */
+ * contributions in a fixed order through a CSR index built at set-up.
+ *
+ * The kernels are instantiated per precision. The pre-filter of (1) also applies
+ * the overlap's own half-space slab test (poly_overlap_slab), so pairs whose
+ * bounding spheres touch but whose bodies cannot (most of them in a packed bed
+ * of elongated shapes) leave no idle lanes in the overlap kernel's warps. Each
+ * thread of (2) needs an overlap workspace: when the largest shape's fits in
+ * POLY_GPU_LOCAL_WORKSPACE_REALS scalars it is an array in the thread's local
+ * memory, which the hardware interleaves across a warp's threads (a warp's
+ * accesses to one element of its 32 workspaces fall in one or two cache lines,
+ * and the unused tail of the array is never touched); larger shapes get
+ * per-thread blocks of a scratch buffer in global memory. */
 #include "poly_gpu.h"
 
 #include <cuda_runtime.h>
@@ -152,20 +163,93 @@ __device__ View shape_view(const DeviceShapes &s, int shape, const Real *vertice
   return v;
 }
 
-// Pairs whose bounding spheres overlap go to the compact list (one atomic per
-// warp); the others are cleared: no contact, no history, no force.
-__global__ void bounding_kernel(DeviceShapes shapes, int num_pairs, const int *pair_i, const int *pair_j,
-                                const poly_gpu_particle *particles, const poly_gpu_motion *motion, int *contact,
-                                double *history, PairForce *pair_force, int *touching, int *counters)
+// The overlap code of one precision (poly_overlap_instances.h): its shape
+// views, workspace and functions, for the kernel templates.
+template <int Precision> struct Narrow;
+#define POLY_GPU_NARROW(PRECISION, REAL, GEOMETRY, SUFFIX)                                                        \
+  template <> struct Narrow<PRECISION> {                                                                           \
+    typedef REAL Real;                                                                                             \
+    typedef poly_shape_view##GEOMETRY View;                                                                        \
+    typedef poly_overlap_workspace##GEOMETRY Workspace;                                                            \
+    static __device__ View view(const DeviceShapes &s, int shape)                                                  \
+    {                                                                                                              \
+      return shape_view<View>(s, shape, s.vertices##GEOMETRY, s.normals##GEOMETRY);                              \
+    }                                                                                                              \
+    static __host__ __device__ size_t layout(Workspace *ws, void *memory, int max_vertices, int max_triangles)    \
+    {                                                                                                              \
+      return poly_overlap_workspace_layout##SUFFIX(ws, memory, max_vertices, max_triangles);                      \
+    }                                                                                                              \
+    static __device__ int separated(const View *a, const View *b, const double *rotation, const double *translation) \
+    {                                                                                                              \
+      double axis[3], extent_a, extent_b;                                                                          \
+      return poly_overlap_slab##SUFFIX(a, b, rotation, translation, axis, &extent_a, &extent_b);                  \
+    }                                                                                                              \
+    static __device__ void overlap(const View *a, const View *b, const double *rotation, const double *translation, \
+                                   Workspace *ws, double *centroid, double *normal, poly_overlap_result *result)   \
+    {                                                                                                              \
+      poly_overlap_local##SUFFIX(a, b, rotation, translation, ws, centroid, normal, result);                      \
+    }                                                                                                              \
+  };
+POLY_GPU_NARROW(POLY_PRECISION_DOUBLE, double, _d, _d)
+POLY_GPU_NARROW(POLY_PRECISION_SINGLE, float, _f, _f)
+POLY_GPU_NARROW(POLY_PRECISION_MIXED, float, _f, _m)
+#undef POLY_GPU_NARROW
+
+// Where a thread's overlap workspace lives: an array of Bytes in its local
+// memory, or (Bytes = 0) its block of the global scratch buffer.
+template <size_t Bytes> struct WorkspaceMemory {
+  double block[(Bytes + sizeof(double) - 1) / sizeof(double)];
+  __device__ char *get(char *, int, size_t) { return (char *)block; }
+};
+template <> struct WorkspaceMemory<0> {
+  __device__ char *get(char *scratch, int local, size_t bytes_per_thread)
+  {
+    return scratch + (size_t)local * bytes_per_thread;
+  }
+};
+
+// Bytes of the local-memory workspace of a precision.
+template <int Precision> struct LocalWorkspace {
+  static const size_t bytes = POLY_GPU_LOCAL_WORKSPACE_REALS * sizeof(typename Narrow<Precision>::Real);
+};
+
+const int kThreads = 128;
+
+// Blocks of the contact kernel each SM must be able to hold: 2 leaves ptxas
+// all 255 registers (no spills, 8 warps per SM); 3 caps it at 168 and 4 at
+// 128, trading spills for occupancy. tools/bench_gpu.sh measures the choices.
+#ifndef POLY_GPU_CONTACT_MIN_BLOCKS
+#define POLY_GPU_CONTACT_MIN_BLOCKS 2
+#endif
+
+// Pairs whose bounding spheres overlap, and whose bodies overlap along the
+// centre line, go to the compact list (one atomic per warp); the others are
+// cleared: no contact, no history, no force.
+template <int Precision>
+__global__ void __launch_bounds__(kThreads)
+    bounding_kernel(DeviceShapes shapes, int num_pairs, const int *__restrict__ pair_i,
+                    const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
+                    const poly_gpu_motion *__restrict__ motion, int *__restrict__ contact,
+                    double *__restrict__ history, PairForce *__restrict__ pair_force, int *__restrict__ touching,
+                    int *__restrict__ counters)
 {
+  typedef Narrow<Precision> N;
   int p = blockIdx.x * blockDim.x + threadIdx.x;
   int take = 0;
   if (p < num_pairs) {
     int i = pair_i[p], j = pair_j[p];
     const double *xi = motion[i].position, *xj = motion[j].position;
     double dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
-    double reach = shapes.radius[particles[i].shape] + shapes.radius[particles[j].shape];
+    int shape_i = particles[i].shape, shape_j = particles[j].shape;
+    double reach = shapes.radius[shape_i] + shapes.radius[shape_j];
     take = dx * dx + dy * dy + dz * dz < reach * reach;
+    if (take) {
+      double rotation_i[9], rotation[9], translation[3];
+      poly_overlap_relative_pose(motion[i].position, motion[i].quaternion, motion[j].position, motion[j].quaternion,
+                                 rotation_i, rotation, translation);
+      typename N::View a = N::view(shapes, shape_i), b = N::view(shapes, shape_j);
+      take = !N::separated(&a, &b, rotation, translation);
+    }
     if (!take) {
       contact[p] = 0;
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) history[POLY_HISTORY_SIZE * p + d] = 0.0;
@@ -182,12 +266,17 @@ __global__ void bounding_kernel(DeviceShapes shapes, int num_pairs, const int *p
   if (take) touching[base + __popc(ballot & ((1u << lane) - 1u))] = p;
 }
 
-__global__ void contact_kernel(DeviceShapes shapes, const int *touching, int first, int count, const int *pair_i,
-                               const int *pair_j, const poly_gpu_particle *particles, const poly_gpu_motion *motion,
-                               const poly_material_pair *materials, int num_types, poly_gpu_settings settings,
-                               int *contact, double *history, PairForce *pair_force, poly_gpu_result *results,
-                               int *counters, char *scratch, size_t bytes_per_thread)
+template <int Precision, size_t LocalBytes>
+__global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
+    contact_kernel(DeviceShapes shapes, const int *__restrict__ touching, int first, int count,
+                   const int *__restrict__ pair_i, const int *__restrict__ pair_j,
+                   const poly_gpu_particle *__restrict__ particles, const poly_gpu_motion *__restrict__ motion,
+                   const poly_material_pair *__restrict__ materials, int num_types, poly_gpu_settings settings,
+                   int *__restrict__ contact, double *__restrict__ history, PairForce *__restrict__ pair_force,
+                   poly_gpu_result *__restrict__ results, int *__restrict__ counters, char *__restrict__ scratch,
+                   size_t bytes_per_thread)
 {
+  typedef Narrow<Precision> N;
   int local = blockIdx.x * blockDim.x + threadIdx.x;
   if (local >= count) return;
   int p = touching[first + local];
@@ -196,34 +285,18 @@ __global__ void contact_kernel(DeviceShapes shapes, const int *touching, int fir
   const poly_gpu_motion &state_i = motion[i], &state_j = motion[j];
 
   // The relative pose, as poly_overlap_d/f/m compute it on the host.
-  double rotation_i[9], rotation_j[9], rotation[9], difference[3], translation[3];
-  poly_quat_to_matrix(state_i.quaternion, rotation_i);
-  poly_quat_to_matrix(state_j.quaternion, rotation_j);
-  for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++)
-      rotation[3 * a + b] = rotation_i[a] * rotation_j[b] + rotation_i[3 + a] * rotation_j[3 + b] +
-                            rotation_i[6 + a] * rotation_j[6 + b];
-  for (int k = 0; k < 3; k++) difference[k] = state_j.position[k] - state_i.position[k];
-  poly_matrix_apply_transpose(rotation_i, difference, translation);
+  double rotation_i[9], rotation[9], translation[3];
+  poly_overlap_relative_pose(state_i.position, state_i.quaternion, state_j.position, state_j.quaternion, rotation_i,
+                             rotation, translation);
 
   poly_overlap_result geometry;
   double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
-  char *memory = scratch + (size_t)local * bytes_per_thread;
-  if (settings.precision == POLY_PRECISION_DOUBLE) {
-    poly_overlap_workspace_d ws;
-    poly_overlap_workspace_layout_d(&ws, memory, shapes.max_vertices, shapes.max_triangles);
-    poly_shape_view_d a = shape_view<poly_shape_view_d>(shapes, body_i.shape, shapes.vertices_d, shapes.normals_d);
-    poly_shape_view_d b = shape_view<poly_shape_view_d>(shapes, body_j.shape, shapes.vertices_d, shapes.normals_d);
-    poly_overlap_local_d(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
-  } else {
-    poly_overlap_workspace_f ws;
-    poly_overlap_workspace_layout_f(&ws, memory, shapes.max_vertices, shapes.max_triangles);
-    poly_shape_view_f a = shape_view<poly_shape_view_f>(shapes, body_i.shape, shapes.vertices_f, shapes.normals_f);
-    poly_shape_view_f b = shape_view<poly_shape_view_f>(shapes, body_j.shape, shapes.vertices_f, shapes.normals_f);
-    if (settings.precision == POLY_PRECISION_MIXED)
-      poly_overlap_local_m(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
-    else
-      poly_overlap_local_f(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
+  {
+    WorkspaceMemory<LocalBytes> memory;
+    typename N::Workspace ws;
+    N::layout(&ws, memory.get(scratch, local, bytes_per_thread), shapes.max_vertices, shapes.max_triangles);
+    typename N::View a = N::view(shapes, body_i.shape), b = N::view(shapes, body_j.shape);
+    N::overlap(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
   }
   double *pair_history = history + POLY_HISTORY_SIZE * p;
   double negligible = body_i.negligible_volume < body_j.negligible_volume ? body_i.negligible_volume
@@ -319,6 +392,50 @@ template <typename T> bool upload_raw(T **device, const std::vector<T> &host, ch
   if (host.empty()) return true;
   return check(cudaMemcpy(*device, &host[0], sizeof(T) * host.size(), cudaMemcpyHostToDevice), "cudaMemcpy", message,
                size);
+}
+
+// Pre-filter, then overlap and contact law for the pairs that passed: all in
+// one launch with local-memory workspaces, else in batches of threads whose
+// workspaces fit in a bounded scratch buffer.
+template <int Precision>
+bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_results, char *message, size_t size)
+{
+  typedef Narrow<Precision> N;
+  const DeviceShapes &s = state.shapes;
+  const int num_pairs = state.num_pairs;
+  int num_touching = 0;
+  if (num_pairs > 0) {
+    bounding_kernel<Precision><<<(num_pairs + kThreads - 1) / kThreads, kThreads>>>(
+        s, num_pairs, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
+        state.contact.data, state.history.data, state.pair_force.data, state.touching.data, state.counters.data);
+    if (!check(cudaGetLastError(), "bounding kernel launch", message, size) ||
+        !check(cudaMemcpy(&num_touching, state.counters.data, sizeof(int), cudaMemcpyDeviceToHost),
+               "bounding kernel", message, size))
+      return false;
+  }
+  if (num_touching == 0) return true;
+  size_t workspace = N::layout(NULL, NULL, s.max_vertices, s.max_triangles);
+  if (workspace <= LocalWorkspace<Precision>::bytes) {
+    contact_kernel<Precision, LocalWorkspace<Precision>::bytes><<<(num_touching + kThreads - 1) / kThreads, kThreads>>>(
+        s, state.touching.data, 0, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
+        state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+        state.pair_force.data, device_results, state.counters.data, NULL, 0);
+    return check(cudaGetLastError(), "contact kernel launch", message, size);
+  }
+  workspace = (workspace + 255) / 256 * 256;
+  size_t batch = (size_t)1 << 18;
+  const size_t budget = (size_t)1 << 30;
+  while (batch > 256 && batch * workspace > budget) batch /= 2;
+  if (!ensure(state.scratch, batch * workspace, message, size)) return false;
+  for (size_t first = 0; first < (size_t)num_touching; first += batch) {
+    int count = (int)((size_t)num_touching - first < batch ? (size_t)num_touching - first : batch);
+    contact_kernel<Precision, 0><<<(count + kThreads - 1) / kThreads, kThreads>>>(
+        s, state.touching.data, (int)first, count, state.pair_i.data, state.pair_j.data, state.particles.data,
+        state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+        state.pair_force.data, device_results, state.counters.data, state.scratch.data, workspace);
+    if (!check(cudaGetLastError(), "contact kernel launch", message, size)) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -470,8 +587,7 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
     return -1;
   double uploaded = now();
 
-  const DeviceShapes &s = state.shapes;
-  const int threads = 128;
+  const int threads = kThreads;
   int counters[2] = {0, 0};
   poly_gpu_result *device_results = NULL;
   if (results) {
@@ -481,34 +597,12 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
       return -1;
     device_results = state.results.data;
   }
-  if (num_pairs > 0) {
-    bounding_kernel<<<(num_pairs + threads - 1) / threads, threads>>>(
-        s, num_pairs, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
-        state.contact.data, state.history.data, state.pair_force.data, state.touching.data, state.counters.data);
-    if (!check(cudaGetLastError(), "bounding kernel launch", message, message_size) ||
-        !check(cudaMemcpy(counters, state.counters.data, sizeof(int), cudaMemcpyDeviceToHost), "bounding kernel",
-               message, message_size))
-      return -1;
-  }
-  const int num_touching = counters[0];
-
-  // Workspaces for a batch of threads at a time: bounded memory for any pair count.
-  size_t workspace = settings->precision == POLY_PRECISION_DOUBLE
-                         ? poly_overlap_workspace_layout_d(NULL, NULL, s.max_vertices, s.max_triangles)
-                         : poly_overlap_workspace_layout_f(NULL, NULL, s.max_vertices, s.max_triangles);
-  workspace = (workspace + 255) / 256 * 256;
-  size_t batch = (size_t)1 << 18;
-  const size_t budget = (size_t)1 << 30;
-  while (batch > 256 && batch * workspace > budget) batch /= 2;
-  if (num_touching > 0 && !ensure(state.scratch, batch * workspace, message, message_size)) return -1;
-  for (size_t first = 0; first < (size_t)num_touching; first += batch) {
-    int count = (int)((size_t)num_touching - first < batch ? (size_t)num_touching - first : batch);
-    contact_kernel<<<(count + threads - 1) / threads, threads>>>(
-        s, state.touching.data, (int)first, count, state.pair_i.data, state.pair_j.data, state.particles.data,
-        state.motion.data, state.materials.data, state.num_types, *settings, state.contact.data, state.history.data,
-        state.pair_force.data, device_results, state.counters.data, state.scratch.data, workspace);
-    if (!check(cudaGetLastError(), "contact kernel launch", message, message_size)) return -1;
-  }
+  bool ok = settings->precision == POLY_PRECISION_DOUBLE
+                ? narrow_phase<POLY_PRECISION_DOUBLE>(*settings, device_results, message, message_size)
+            : settings->precision == POLY_PRECISION_MIXED
+                ? narrow_phase<POLY_PRECISION_MIXED>(*settings, device_results, message, message_size)
+                : narrow_phase<POLY_PRECISION_SINGLE>(*settings, device_results, message, message_size);
+  if (!ok) return -1;
   if (!results && state.num_force_particles > 0) {
     reduce_kernel<<<(state.num_force_particles + threads - 1) / threads, threads>>>(
         state.num_force_particles, state.csr_offsets.data, state.csr_entries.data, state.pair_force.data,

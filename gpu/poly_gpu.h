@@ -29,6 +29,16 @@
 extern "C" {
 #endif
 
+/* A GPU thread's overlap workspace is an array in its local memory when the
+ * workspace of the largest shape (poly_overlap_workspace_layout) fits in this
+ * many scalars of the precision: 6 KiB in double, enough for tetrahedra,
+ * Schoenhardt polyhedra, cubes and 10-triangle rocks, and for shapes of up to
+ * about 16 triangles in single and mixed precision. Local memory is reserved
+ * for every thread the GPU can hold (about 0.27 M on an H100, so ~1.6 GiB per
+ * process at 6 KiB); larger shapes use per-thread blocks of a scratch buffer in
+ * global memory instead. */
+#define POLY_GPU_LOCAL_WORKSPACE_REALS 768
+
 /* Per particle (owned and ghost), constant between neighbour-list rebuilds. */
 typedef struct poly_gpu_particle {
   int shape;                     /* index into the shapes given to poly_gpu_init */

@@ -386,7 +386,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
   const bool advance_history = begin_compute(eflag, vflag);
 
   double **x = atom->x, **v = atom->v, **omega = atom->omega;
-  double *radius = atom->radius, *rmass = atom->rmass;
+  double *radius = atom->radius, *rmass = atom->rmass, *density = atom->density;
   int *type = atom->type;
   const int num_shapes = (int) views_d.size();
 
@@ -403,23 +403,26 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
       double *history = all_history ? &all_history[POLY_HISTORY_SIZE * jj] : NULL;
       double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
       double reach = radius[i] + radius[j];
+      bool in_contact = false;
       poly_overlap_result geometry;
-      geometry.volume = 0.0;
       if (dx * dx + dy * dy + dz * dz < reach * reach) {
         int si = atom->shapetype[i], sj = atom->shapetype[j];
         if (si <= 0 || sj <= 0 || si >= num_shapes || sj >= num_shapes)
           error->one(FLERR, "Pair polyhedral/volumetric: a particle has a shape without template");
         overlap(i, j, &geometry);
+        // Faces that touch exactly come out with a round-off volume (the symbolic
+        // perturbation may push them together by an infinitesimal amount): below
+        // 1e-12 of the smaller particle's volume an overlap is not a contact.
+        double volume_i = rmass[i] / density[i], volume_j = rmass[j] / density[j];
+        double negligible = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
+        in_contact = geometry.volume > negligible && geometry.depth > 0.0;
       }
-      // Faces that touch exactly come out with a round-off volume (the symbolic
-      // perturbation may push them together by an infinitesimal amount): below
-      // 1e-12 of the smaller particle's volume an overlap is not a contact.
-      double volume_i = rmass[i] / atom->density[i], volume_j = rmass[j] / atom->density[j];
-      double negligible = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
-      if (!(geometry.volume > negligible) || !(geometry.depth > 0.0)) {
-        if (touch) touch[jj] = 0;
-        if (history)
+      if (!in_contact) {
+        // A pair that was not touching has zero history already: LIGGGHTS' lists
+        // give new pairs zeros, and a pair leaving contact is cleared here.
+        if (history && (!touch || touch[jj]))
           for (int d = 0; d < POLY_HISTORY_SIZE; d++) history[d] = 0.0;
+        if (touch) touch[jj] = 0;
         continue;
       }
       if (touch) touch[jj] = 1;

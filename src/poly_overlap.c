@@ -76,22 +76,6 @@ void poly_shape_view_free_f(poly_shape_view_f *view)
 POLY_WORKSPACE_FUNCTIONS(_d)
 POLY_WORKSPACE_FUNCTIONS(_f)
 
-/* B's body frame in A's: rotation R_A^T R_B, translation R_A^T (x_B - x_A),
- * with the position difference taken in double before anything else. */
-static void poly_relative_pose(const poly_pose *pose_a, const poly_pose *pose_b, double rotation_a[9],
-                               double rotation[9], double translation[3])
-{
-  double rotation_b[9], difference[3];
-  poly_quat_to_matrix(pose_a->quaternion, rotation_a);
-  poly_quat_to_matrix(pose_b->quaternion, rotation_b);
-  for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++)
-      rotation[3 * i + j] = rotation_a[i] * rotation_b[j] + rotation_a[3 + i] * rotation_b[3 + j] +
-                            rotation_a[6 + i] * rotation_b[6 + j];
-  for (int k = 0; k < 3; k++) difference[k] = pose_b->position[k] - pose_a->position[k];
-  poly_matrix_apply_transpose(rotation_a, difference, translation);
-}
-
 static void poly_result_to_world(const poly_pose *pose_a, const double rotation_a[9], const double *local_centroid,
                                  const double *local_normal, poly_overlap_result *result)
 {
@@ -112,7 +96,8 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
   {                                                                                                   \
     double rotation_a[9], rotation[9], translation[3], local_centroid[3] = {0, 0, 0},                 \
            local_normal[3] = {0, 0, 0};                                                               \
-    poly_relative_pose(pose_a, pose_b, rotation_a, rotation, translation);                            \
+    poly_overlap_relative_pose(pose_a->position, pose_a->quaternion, pose_b->position, pose_b->quaternion, \
+                               rotation_a, rotation, translation);                                    \
     poly_overlap_local##SUFFIX(a, b, rotation, translation, ws, local_centroid, local_normal, result); \
     poly_result_to_world(pose_a, rotation_a, local_centroid, local_normal, result);                   \
   }

@@ -77,7 +77,7 @@ typedef struct poly_overlap_result {
   /* Scratch memory for one pair at a time, sized once for the largest shapes. */                   \
   typedef struct poly_overlap_workspace##SUFFIX {                                                   \
     int capacity_vertices, capacity_triangles, capacity_points;                                     \
-    int use_filter;                    /* 1 (default): half-space triangle filter; 0: all triangles */ \
+    int use_filter;                    /* 1 (default): half-space filter; 0: all triangles, even of separated pairs */ \
     REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
     REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \
     REAL *normals_b;                   /* B's unit normals in the local frame */                   \

@@ -13,6 +13,48 @@
 
 #include "poly_exact.h"
 
+#ifndef POLY_OVERLAP_IMPL_COMMON
+#define POLY_OVERLAP_IMPL_COMMON
+/* The exact predicates decide only the rare uncertain cases, and each inlined
+ * copy of their expansion arithmetic brings its own arrays: on the GPU they
+ * stay out of line, so a thread's stack holds one frame of them and the hot
+ * path's registers are not spent on code it almost never runs. The CPU build
+ * inlines them as before. */
+#if defined(__CUDACC__)
+#define POLY_COLD static __host__ __device__ __noinline__
+#else
+#define POLY_COLD POLY_INLINE
+#endif
+
+POLY_COLD double poly_overlap_orient(const double *a, const double *b, const double *c, const double *d)
+{
+  return poly_orient(a, b, c, d);
+}
+
+POLY_COLD int poly_overlap_det_sign(const double *const high[3], const double *const low[3])
+{
+  return poly_det_sign_exact(high, low);
+}
+
+/* B's body frame in A's: rotation R_A^T R_B, translation R_A^T (x_B - x_A),
+ * with the position difference taken in double before anything else; also
+ * A's rotation R_A, which takes results back to the world. */
+POLY_INLINE void poly_overlap_relative_pose(const double *position_a, const double *quaternion_a,
+                                            const double *position_b, const double *quaternion_b,
+                                            double rotation_a[9], double rotation[9], double translation[3])
+{
+  double rotation_b[9], difference[3];
+  poly_quat_to_matrix(quaternion_a, rotation_a);
+  poly_quat_to_matrix(quaternion_b, rotation_b);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      rotation[3 * i + j] = rotation_a[i] * rotation_b[j] + rotation_a[3 + i] * rotation_b[3 + j] +
+                            rotation_a[6 + i] * rotation_b[6 + j];
+  for (int k = 0; k < 3; k++) difference[k] = position_b[k] - position_a[k];
+  poly_matrix_apply_transpose(rotation_a, difference, translation);
+}
+#endif
+
 typedef POLY_REAL POLY_FN(real);
 #define R POLY_FN(real)
 #ifdef POLY_ACCUM
@@ -122,7 +164,7 @@ POLY_INLINE R POLY_FN(plane_side)(const R *x, const R *vertices, const int *tri,
   POLY_FN(to_double)(vertices + 3 * tri[1], b);
   POLY_FN(to_double)(vertices + 3 * tri[2], c);
   POLY_FN(to_double)(x, d);
-  double exact = -poly_orient(a, b, c, d);
+  double exact = -poly_overlap_orient(a, b, c, d);
   if (exact == 0.0) return (R)0;
   if ((exact > 0) == (side > 0) && side != 0) return side;
   return exact > 0 ? (R)1e-30 : (R)-1e-30;
@@ -143,7 +185,7 @@ POLY_INLINE R POLY_FN(edge_side)(const R *p0, const R *p1, const R *q0, const R 
   POLY_FN(to_double)(p1, pp1);
   POLY_FN(to_double)(q0, qq0);
   POLY_FN(to_double)(q1, qq1);
-  double exact = poly_orient(pp1, qq0, qq1, pp0);
+  double exact = poly_overlap_orient(pp1, qq0, qq1, pp0);
   return exact > 0 ? (R)1 : (exact < 0 ? (R)-1 : (R)0);
 }
 
@@ -164,7 +206,7 @@ POLY_INLINE int POLY_FN(side_sign)(R side, int point_in_b, const R *vertices, co
   POLY_FN(perturbation)(u);
   POLY_FN(to_double)(u, ud);
   const double *high[3] = {c1, c2, ud}, *low[3] = {c0, c0, 0};
-  return POLY_FN(perturbed_sign)(0, (R)((point_in_b ? 1 : -1) * poly_det_sign_exact(high, low)));
+  return POLY_FN(perturbed_sign)(0, (R)((point_in_b ? 1 : -1) * poly_overlap_det_sign(high, low)));
 }
 
 /* Does the segment p0 -> p1 of one body cross triangle `tri` (vertices in
@@ -203,7 +245,7 @@ POLY_INLINE int POLY_FN(segment_crosses_triangle)(const R *p0, const R *p1, int 
       POLY_FN(to_double)(q1, qq1);
       POLY_FN(to_double)(u, ud);
       const double *high[3] = {pp1, ud, qq1}, *low[3] = {pp0, 0, qq0};
-      first_order = (R)((segment_in_b ? -1 : 1) * poly_det_sign_exact(high, low));
+      first_order = (R)((segment_in_b ? -1 : 1) * poly_overlap_det_sign(high, low));
     }
     int sign = POLY_FN(perturbed_sign)(orientation, first_order) * (from < to ? 1 : -1);
     if (k == 0) common = sign;
@@ -514,6 +556,47 @@ POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tr
   plane[3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
 }
 
+/* The half-space filter's slab (eqs. 5.3-5.4): the filtering direction
+ * `axis_d` (the centre line; any direction is valid), the highest extent of A
+ * and the lowest of B along it (B's vertices taken to A's body frame in
+ * double). Returns 1 when the bodies do not overlap along it, so neither do
+ * they: the GPU also uses it to skip such pairs before the overlap kernel. */
+POLY_INLINE int POLY_FN(overlap_slab)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                      const double *rotation, const double *translation, double *axis_d,
+                                      double *extent_a, double *extent_b)
+{
+  /* Filtering direction (eq. 5.3): the centre line; any direction is valid. */
+  double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
+                         translation[2] * translation[2]);
+  axis_d[0] = 1.0;
+  axis_d[1] = axis_d[2] = 0.0;
+  if (distance > 1e-12 * ((double)a->bounding_radius + (double)b->bounding_radius))
+    for (int k = 0; k < 3; k++) axis_d[k] = translation[k] / distance;
+
+  double high_a = -1e300, low_b = 1e300;
+  for (int i = 0; i < a->num_vertices; i++) {
+    const R *v = a->vertices + 3 * i;
+    double along = axis_d[0] * v[0] + axis_d[1] * v[1] + axis_d[2] * v[2];
+    if (along > high_a) high_a = along;
+  }
+  for (int j = 0; j < b->num_vertices; j++) {
+    const R *v = b->vertices + 3 * j;
+    double along = 0.0;
+    for (int k = 0; k < 3; k++) {
+      double w = rotation[3 * k] * v[0] + rotation[3 * k + 1] * v[1] + rotation[3 * k + 2] * v[2] + translation[k];
+      along += axis_d[k] * w;
+    }
+    if (along < low_b) low_b = along;
+  }
+  *extent_a = high_a;
+  *extent_b = low_b;
+  /* Separated, or touching to within round-off: an overlap at most 1e-12 of
+   * the particle size deep has a volume the contact law ignores anyway, and
+   * faces touching face to face are the most degenerate, slowest case for the
+   * exact predicates (a bed of boxes placed on a grid is full of them). */
+  return high_a - low_b <= 1e-12 * ((double)a->bounding_radius + (double)b->bounding_radius);
+}
+
 /* The overlap in the local frame (body frame of A shifted to `origin`).
  * `rotation` (row-major) and `translation` take B's body frame to A's. */
 POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
@@ -526,39 +609,14 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   result->filtered_out = 0;
   ws->num_points = 0;
 
-  /* Filtering direction (eq. 5.3): the centre line; any direction is valid. */
-  double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
-                         translation[2] * translation[2]);
-  double axis_d[3] = {1.0, 0.0, 0.0};
-  if (distance > 1e-12 * ((double)a->bounding_radius + (double)b->bounding_radius))
-    for (int k = 0; k < 3; k++) axis_d[k] = translation[k] / distance;
-
-  /* B's vertices in A's body frame (double), extents along the axis (eq. 5.4). */
-  double extent_a = -1e300, extent_b = 1e300;
-  for (int i = 0; i < a->num_vertices; i++) {
-    const R *v = a->vertices + 3 * i;
-    double along = axis_d[0] * v[0] + axis_d[1] * v[1] + axis_d[2] * v[2];
-    if (along > extent_a) extent_a = along;
-  }
-  for (int j = 0; j < b->num_vertices; j++) {
-    const R *v = b->vertices + 3 * j;
-    double along = 0.0;
-    for (int k = 0; k < 3; k++) {
-      double w = rotation[3 * k] * v[0] + rotation[3 * k + 1] * v[1] + rotation[3 * k + 2] * v[2] + translation[k];
-      along += axis_d[k] * w;
-    }
-    if (along < extent_b) extent_b = along;
-  }
-  /* Separated, or touching to within round-off: an overlap at most 1e-12 of
-   * the particle size deep has a volume the contact law ignores anyway, and
-   * faces touching face to face are the most degenerate, slowest case for the
-   * exact predicates (a bed of boxes placed on a grid is full of them). */
-  if (extent_a - extent_b <= 1e-12 * ((double)a->bounding_radius + (double)b->bounding_radius)) {
+  double axis_d[3], extent_a, extent_b;
+  int separated = POLY_FN(overlap_slab)(a, b, rotation, translation, axis_d, &extent_a, &extent_b);
+  if (separated && ws->use_filter) {
     result->filtered_out = 1;
     return;
   }
   if (!ws->use_filter) {
-    /* Benchmark baseline: a slab that holds both bodies entirely. */
+    /* Baseline for benchmarks and tests: no early exit, and a slab that holds both bodies entirely. */
     extent_a += 4.0 * ((double)a->bounding_radius + (double)b->bounding_radius);
     extent_b -= 4.0 * ((double)a->bounding_radius + (double)b->bounding_radius);
   }

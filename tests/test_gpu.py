@@ -6,6 +6,7 @@ GPU" (skips do not count as passed). On a GPU host the same command runs them:
 see doc/gpu.md for running there from a bundle."""
 import os
 import random
+import re
 import shutil
 import subprocess
 
@@ -40,6 +41,28 @@ def test_cuda_sources_compile_and_link(launcher):
     for name in ("poly_gpu_init", "poly_gpu_compute", "poly_gpu_clear"):
         assert name in symbols, name
     assert (ROOT / "build" / "tests" / "gpu_agreement").exists()
+
+
+def test_gpu_code_paths_on_the_cpu(tmp_path):
+    """tests/unit/gpu_paths.c: the GPU's pre-filter (poly_overlap_slab on the relative pose) drops only
+    pairs that the overlap without its filter finds apart, and the overlap in a workspace carved from a
+    block of POLY_GPU_LOCAL_WORKSPACE_REALS scalars (the contact kernel's local-memory array) is the
+    host's bit for bit, for the shapes gpu/poly_gpu.h says fit; random pairs of the reference shapes,
+    double, single and mixed. Runs without a GPU."""
+    if not shutil.which("gcc"):
+        pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
+    binary = tmp_path / "gpu_paths"
+    sources = [ROOT / "tests" / "unit" / "gpu_paths.c"] + [ROOT / "src" / name for name in
+                                                          ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c")]
+    build = subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-I" + str(ROOT / "src"),
+                            "-I" + str(ROOT / "gpu")] + [str(s) for s in sources] + ["-lm", "-o", str(binary)],
+                           capture_output=True, text=True)
+    assert build.returncode == 0, build.stderr
+    run = subprocess.run([str(binary), str(ROOT / "examples" / "shapes")], capture_output=True, text=True)
+    print(run.stdout)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.strip().endswith("OK")
+    assert re.search(r"schoenhardt\.stl +_d: 2000 pairs, .* local memory", run.stdout), run.stdout
 
 
 def small_deck(pair):

@@ -5,10 +5,18 @@
  * V, centroid, normal, depth, forces, torques and history. The per-particle
  * sums of the fast path (no per-pair results) must equal the per-pair forces
  * exactly, and its history the per-pair path's. Usage:
- * gpu_agreement SHAPES_DIR COUNT double|single|mixed [gpu-only]
+ * gpu_agreement SHAPES_DIR COUNT double|single|mixed [gpu-only|bed [SHAPE]]
  * gpu-only: throughput only, no host comparison, with COUNT pairs scaled by
  * 8 / triangles per shape (at least 2000), so the GPU is filled for small
  * shapes and large ones finish in seconds.
+ * bed: as gpu-only, but the pairs are a packed bed's mix (tools/bench_gpu.sh):
+ * half in contact with an overlap of 0.1 to 3 % of the particle volume
+ * (log-uniform, the distance bisected on the host as tools/bench_overlap.c
+ * does), half with touching bounding spheres but bodies apart (distance
+ * uniform between touching and the sum of the bounding radii); at most 4096
+ * distinct poses per shape (fewer for large shapes), repeated over the pairs.
+ * Prints pairs per second of the kernels alone and of the whole step. SHAPE:
+ * only the shape of that name (file name without extension).
  *
  * Scales: V and depth relative to themselves for overlaps above 1e-3 of the
  * particle volume (below that, relative to 1e-3 V_p: a grazing overlap's own
@@ -41,6 +49,38 @@ static void random_quaternion(unsigned long long *state, double q[4])
   poly_quat_normalize(q);
 }
 
+// A bed-like relative pose of B (position offset and both orientations) for
+// shape `shape`: in contact with the given overlap fraction, or (fraction 0)
+// apart, somewhere between touching and the sum of the bounding radii.
+static void bed_pose(const poly_shape_view_d &shape, double volume, double radius, double fraction,
+                     unsigned long long *state, poly_overlap_workspace_d *ws, double offset[3], double qa[4],
+                     double qb[4])
+{
+  poly_pose a, b;
+  double direction[3], length = 0.0;
+  while (length < 0.1) {
+    for (int k = 0; k < 3; k++) direction[k] = 2.0 * uniform(state) - 1.0;
+    length = sqrt(direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2]);
+  }
+  for (int k = 0; k < 3; k++) direction[k] /= length;
+  random_quaternion(state, qa);
+  random_quaternion(state, qb);
+  memset(&a, 0, sizeof a);
+  memcpy(a.quaternion, qa, sizeof a.quaternion);
+  memcpy(b.quaternion, qb, sizeof b.quaternion);
+  double near = 0.0, far = 2.0 * radius;
+  for (int iteration = 0; iteration < 30; iteration++) {
+    double middle = 0.5 * (near + far);
+    for (int k = 0; k < 3; k++) b.position[k] = middle * direction[k];
+    poly_overlap_result result;
+    poly_overlap_d(&shape, &a, &shape, &b, ws, &result);
+    if (result.volume > fraction * volume) near = middle;
+    else far = middle;
+  }
+  double distance = fraction > 0.0 ? near : far + (2.0 * radius - far) * uniform(state);
+  for (int k = 0; k < 3; k++) offset[k] = distance * direction[k];
+}
+
 static double seconds_since(const struct timespec &start)
 {
   struct timespec stop;
@@ -50,8 +90,10 @@ static double seconds_since(const struct timespec &start)
 
 int main(int argc, char **argv)
 {
-  if (argc != 4 && argc != 5) return 2;
-  const bool gpu_only = argc == 5 && strcmp(argv[4], "gpu-only") == 0;
+  if (argc < 4 || argc > 6) return 2;
+  const bool bed = argc >= 5 && strcmp(argv[4], "bed") == 0;
+  const bool gpu_only = bed || (argc == 5 && strcmp(argv[4], "gpu-only") == 0);
+  const char *only = bed && argc == 6 ? argv[5] : "";
   const char *names[] = {"schoenhardt.stl", "cube.stl", "tetrahedron.obj", "icosphere_80.off", "icosphere_320.off",
                          "icosphere_1280.off", "rock_10.obj", "rock_40.obj", "rock_70.obj", "rock_1000.obj"};
   const int num_shapes = 10;
@@ -95,6 +137,8 @@ int main(int argc, char **argv)
   int failures = 0;
   double tolerance = precision == POLY_PRECISION_DOUBLE ? 1e-10 : 1e-4;
   for (int s = 0; s < num_shapes; s++) {
+    size_t stem = strcspn(names[s], ".");
+    if (*only && (strlen(only) != stem || strncmp(names[s], only, stem) != 0)) continue;
     int count = requested;
     if (gpu_only) {
       long scaled = (long)requested * 8 / shapes[s].num_triangles;
@@ -105,6 +149,15 @@ int main(int argc, char **argv)
     std::vector<poly_gpu_motion> motion(2 * count);
     std::vector<int> pair_i(count), pair_j(count);
     std::vector<double> history(POLY_HISTORY_SIZE * count);
+    // Bed poses: half of them in contact.
+    int num_poses = bed ? 32768 / shapes[s].num_triangles : 0;
+    num_poses = num_poses < 256 ? 256 : num_poses > 4096 ? 4096 : num_poses;
+    std::vector<double> poses(bed ? 11 * num_poses : 0);
+    poly_shape_view_d bed_view = poly_shape_view_of(&shapes[s]);
+    for (int n = 0; bed && n < num_poses; n++)
+      bed_pose(bed_view, shapes[s].volume, shapes[s].bounding_radius,
+               n % 2 ? 0.0 : pow(10.0, -3.0 + log10(30.0) * uniform(&state)), &state, &ws_d, &poses[11 * n],
+               &poses[11 * n + 3], &poses[11 * n + 7]);
     for (int p = 0; p < count; p++) {
       poly_gpu_motion &a = motion[2 * p], &b = motion[2 * p + 1];
       double r = shapes[s].bounding_radius;
@@ -115,12 +168,19 @@ int main(int argc, char **argv)
         a.omega[k] = 20.0 * (uniform(&state) - 0.5);
         b.omega[k] = 20.0 * (uniform(&state) - 0.5);
       }
-      double direction[4];
-      random_quaternion(&state, direction);
-      double distance = r * (0.8 + 0.9 * uniform(&state));
-      for (int k = 0; k < 3; k++) b.position[k] = a.position[k] + distance * direction[k + 1];
-      random_quaternion(&state, a.quaternion);
-      random_quaternion(&state, b.quaternion);
+      if (bed) {
+        const double *pose = &poses[11 * (p % num_poses)];
+        for (int k = 0; k < 3; k++) b.position[k] = a.position[k] + pose[k];
+        memcpy(a.quaternion, pose + 3, sizeof a.quaternion);
+        memcpy(b.quaternion, pose + 7, sizeof b.quaternion);
+      } else {
+        double direction[4];
+        random_quaternion(&state, direction);
+        double distance = r * (0.8 + 0.9 * uniform(&state));
+        for (int k = 0; k < 3; k++) b.position[k] = a.position[k] + distance * direction[k + 1];
+        random_quaternion(&state, a.quaternion);
+        random_quaternion(&state, b.quaternion);
+      }
       for (int n = 2 * p; n <= 2 * p + 1; n++) {
         particles[n].shape = s;
         particles[n].type = 1;
@@ -141,7 +201,7 @@ int main(int argc, char **argv)
     // Per-pair path, history advanced; then the fast path from the same start: a
     // warm-up call (allocations) and a timed step.
     struct timespec start;
-    double seconds = 0.0;
+    double seconds = 0.0, kernel_seconds = 0.0;
     bool ok = poly_gpu_set_pairs(2 * count, 2 * count, &particles[0], count, &pair_i[0], &pair_j[0], &history[0], 1,
                                  materials, message, sizeof message) == 0;
     if (ok) {
@@ -157,9 +217,11 @@ int main(int argc, char **argv)
       settings.advance_history = 0;
       ok = poly_gpu_compute(&settings, NULL, &fast_contacts, message, sizeof message) == 0;
       settings.advance_history = 1;
+      kernel_seconds = poly_gpu_timings().kernels;
       clock_gettime(CLOCK_MONOTONIC, &start);
       ok = ok && poly_gpu_compute(&settings, NULL, &fast_contacts, message, sizeof message) == 0;
       seconds = seconds_since(start);
+      kernel_seconds = poly_gpu_timings().kernels - kernel_seconds;
       if (ok) memcpy(&sums[0], poly_gpu_force_torque(), sizeof(double) * sums.size());
       ok = ok && poly_gpu_get_history(&fast_history[0], &contact_flags[0], message, sizeof message) == 0;
     }
@@ -187,6 +249,12 @@ int main(int argc, char **argv)
       failures++;
     }
 
+    if (bed) {
+      printf("%-20s %s: %7d bed pairs (%d poses), %7d contacts; GPU %.3g pairs/s in the kernels, %.3g pairs/s for "
+             "the step (poses up, forces down)\n", names[s], argv[3], count, num_poses, num_contacts,
+             count / kernel_seconds, count / seconds);
+      continue;
+    }
     if (gpu_only) {
       printf("%-20s %s: %7d pairs, %7d contacts; GPU %.3g pairs/s (one step: poses up, forces down)\n", names[s],
              argv[3], count, num_contacts, count / seconds);
