@@ -27,6 +27,23 @@ def read_vtp(path):
     return points, triangles, arrays
 
 
+# The view: elevation and azimuth of the camera (degrees); tools/render_scene.py uses the same.
+ELEVATION, AZIMUTH = 22.0, -60.0
+
+
+def frame_axes(axes, points):
+    """Cubic limits around the points, axes in metres, the standard view."""
+    low, high = points.min(axis=0), points.max(axis=0)
+    centre, half = 0.5 * (low + high), 0.5 * np.max(high - low)
+    for setter, c in zip((axes.set_xlim, axes.set_ylim, axes.set_zlim), centre):
+        setter(c - half, c + half)
+    axes.set_box_aspect((1, 1, 1))
+    axes.set_xlabel("x (m)")
+    axes.set_ylabel("y (m)")
+    axes.set_zlabel("z (m)")
+    axes.view_init(elev=ELEVATION, azim=AZIMUTH)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("vtp")
@@ -54,15 +71,7 @@ def main():
     figure = plt.figure(figsize=(7, 6), dpi=110)
     axes = figure.add_subplot(projection="3d")
     axes.add_collection3d(Poly3DCollection(corners, facecolors=colours, edgecolors=(0, 0, 0, 0.15), linewidths=0.2))
-    low, high = points.min(axis=0), points.max(axis=0)
-    centre, half = 0.5 * (low + high), 0.5 * np.max(high - low)
-    for setter, c in zip((axes.set_xlim, axes.set_ylim, axes.set_zlim), centre):
-        setter(c - half, c + half)
-    axes.set_box_aspect((1, 1, 1))
-    axes.set_xlabel("x (m)")
-    axes.set_ylabel("y (m)")
-    axes.set_zlabel("z (m)")
-    axes.view_init(elev=22, azim=-60)
+    frame_axes(axes, points)
     axes.set_title(args.title or f"{len(np.unique(cell_data['id']))} particles, {len(triangles)} triangles")
     figure.tight_layout()
     figure.savefig(args.png)
