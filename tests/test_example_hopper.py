@@ -68,8 +68,9 @@ def test_fill_release_discharge(hopper_run):
         assert r["ke_release"] < 0.05, (name, r["ke_release"])   # settled (a 60-particle fill has ~0.1 J of
         # potential energy per cm of fall)
         assert r["discharged_end"] == N, name                    # everything left the hopper
-        # the discharge starts after the release, and not before a particle could fall one d + d/2
-        assert math.sqrt(2 * 0.02 / 9.81) < r["t_first"] < 0.15, (name, r["t_first"])
+        # the discharge starts after the release, not at once: a centre on the gate must go down by more than d
+        # (free fall 0.064 s; the load above speeds the bottom layer up, so half of that), and within 0.15 s
+        assert 0.5 * math.sqrt(2 * 0.02 / 9.81) < r["t_first"] < 0.15, (name, r["t_first"])
         assert r["npoints"] >= 4 and r["W"] > 0, name
         # Beverloo's order of magnitude for the bulk density of a packing (rho_b ~ 1500 kg/m^3) and C ~ 0.3..3
         unit = 1500 * math.sqrt(9.81) * 0.12 * (0.12 - 1.5 * 0.02) ** 1.5

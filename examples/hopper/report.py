@@ -185,13 +185,13 @@ def plot(results, path):
         print("(matplotlib missing: no plot)")
         return
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    for r, colour in zip(results, ("tab:brown", "tab:blue")):
+    for r, colour, offset in zip(results, ("tab:brown", "tab:blue"), ((8, -14), (-110, 6))):
         ax.plot(r["t"], r["m"], "-", color=colour, label="%s (N = %d)" % (r["name"], r["N"]))
         if not math.isnan(r["W"]):
             tt = np.linspace(r["tfit"][0], r["tfit"][1], 2)
             ax.plot(tt, r["W"] * tt + r["b"], "--", color="k", lw=1)
             ax.annotate("W = %.3g kg/s" % r["W"], (tt[1], r["W"] * tt[1] + r["b"]), textcoords="offset points",
-                        xytext=(6, -12), color=colour)
+                        xytext=offset, color=colour)
     ax.set_xlabel("time since the gate was removed (s)")
     ax.set_ylabel("discharged mass (kg)")
     ax.set_title("Wedge hopper, slot outlet: discharge")
