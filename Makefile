@@ -50,7 +50,7 @@ CFLAGS := -std=c11 $(OPT) -fPIC -Wall -Wextra $(DEFINES) $(CFLAGS_EXTRA)
 CXXFLAGS := -std=c++11 $(OPT) -fPIC -Wall $(DEFINES) -I$(LIGGGHTS_INCLUDE) -Isrc -Igpu $(CXXFLAGS_EXTRA)
 NVCCFLAGS := -std=c++14 -O3 -arch=$(CUDA_ARCH) -Xcompiler -fPIC -Isrc -Igpu
 
-.PHONY: all install test example clean info
+.PHONY: pile all install test example clean info
 all: $(LIBRARY) $(LAUNCHER) $(GPU_TEST)
 
 info:
@@ -95,6 +95,10 @@ test: all
 	/usr/bin/python3 -m pytest -q tests
 
 example: all
+	cd examples/hopper && /usr/bin/python3 run.py
+	@echo "wrote examples/hopper/post/report.md and hopper_discharge.png (see doc/hopper.md)"
+
+pile: all
 	cd examples/pile && rm -rf post && mkdir -p post && \
 	  ../../$(LAUNCHER) -in in.pile -log post/log.lammps
 	@mkdir -p doc/images
