@@ -7,8 +7,11 @@
  * and each planar facet's share can be written as a sum over its oriented
  * boundary segments, each independently: a segment (x1, x2) on the plane of
  * triangle t adds the signed tetrahedron (O, c_t, x1, x2), c_t any point of
- * that plane. This is the edge-local form of the cusp construction
- * (eqs. 5.7-5.11): no triangulation of I, no convex decomposition, so
+ * that plane and O any point. Both are taken on the overlap (O its first node,
+ * c_t the first node on t), so the tetrahedra are the overlap's size and do
+ * not cancel, even for a contact far shallower than the particles are large
+ * and away from the centre line. This is the edge-local form of the cusp
+ * construction (eqs. 5.7-5.11): no triangulation of I, no convex decomposition, so
  * non-convex shapes are first-class. The boundary segments are
  *   - the parts of each edge of A lying inside B (and of B inside A), found by
  *     sorting the edge's crossings with the other surface and toggling from the
@@ -82,6 +85,7 @@ typedef struct poly_overlap_result {
     REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \
     REAL *normals_b;                   /* B's unit normals in the local frame */                   \
     REAL *bounds_a, *bounds_b;         /* per kept triangle: low xyz, high xyz */                  \
+    REAL *apex_a, *apex_b;             /* per kept triangle: apex of its boundary tetrahedra (3 each) */ \
     unsigned char *kept_a, *kept_b;    /* triangles that survive the half-space filter */           \
     int *kept_list_a, *kept_list_b;    /* their indices, so no loop visits the others */            \
     unsigned char *inside_a, *inside_b;/* vertex of A inside B, and vice versa */                   \

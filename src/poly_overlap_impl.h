@@ -109,9 +109,11 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   size_t nv = (size_t)(max_vertices > 0 ? max_vertices : 1);
   size_t nt = (size_t)(max_triangles > 0 ? max_triangles : 1);
   /* Nodes: vertices inside plus edge crossings; a few per triangle covers any
-   * realistic overlap, and more are found again rather than lost. */
-  size_t np = 2 * nv + 4 * nt + 64;
-  size_t reals = 3 * nv + 3 * nv + 4 * nt + 4 * nt + 3 * nt + 6 * nt + 6 * nt + 2 * nt + 3 * np;
+   * realistic overlap, and more are found again rather than lost. (The apexes
+   * took 2 nodes' worth per triangle, so the total, and which shapes fit a GPU
+   * thread's local memory, did not change.) */
+  size_t np = 2 * nv + 2 * nt + 64;
+  size_t reals = 3 * nv + 3 * nv + 4 * nt + 4 * nt + 3 * nt + 6 * nt + 6 * nt + 3 * nt + 3 * nt + 2 * nt + 3 * np;
   size_t ints = 2 * nt;
   size_t bytes = sizeof(R) * reals + sizeof(int) * ints + 2 * nt + 2 * nv;
   if (!ws || !memory) return bytes;
@@ -123,6 +125,8 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->normals_b = r; r += 3 * nt;
   ws->bounds_a = r; r += 6 * nt;
   ws->bounds_b = r; r += 6 * nt;
+  ws->apex_a = r; r += 3 * nt;
+  ws->apex_b = r; r += 3 * nt;
   ws->crossings = r; r += 2 * nt; /* parameters, then directions */
   ws->points = r; r += 3 * np;
   int *n = (int *)r;
@@ -281,32 +285,54 @@ typedef struct POLY_FN(accumulator) {
   ACC moment24[3]; /* 24 V c */
   ACC area_normal[3]; /* sum of area * unit normal over A's facets (eq. 4.19) */
   ACC area;
+  R reference[3];  /* the first node of the boundary: the tetrahedra's common vertex O (local frame) */
+  int has_reference;
 } POLY_FN(accumulator);
 
-/* Segment (x1, x2) of the facet with unit normal `unit_normal` through `corner`.
- * The apex of its tetrahedron is the foot of the local origin on the facet's
- * plane (the cusp point of eq. 5.8), not the corner: a corner of a large facet
- * can lie far from the overlap, and the tetrahedra would then be large and
- * cancel (in single precision a cube on a box 120 times its size lost its
- * centroid). `of_a`: a facet of A, which also counts for the area and eq. 4.19.
- * The tetrahedra are evaluated in the accumulation type: the sums cancel, so
- * in mixed precision the float nodes are promoted before the products. */
-POLY_INLINE void POLY_FN(add_segment)(POLY_FN(accumulator) *acc, const R *corner, const R *unit_normal, const R *x1,
+/* Marks a facet whose apex is not yet set (an impossible local coordinate). */
+#define POLY_NO_APEX ((R)1e30)
+
+/* Segment (x1, x2) of a facet with unit normal `unit_normal`. Its share of the
+ * volume and moment is the signed tetrahedron (O, q, x1, x2) (eqs. 5.7-5.11):
+ * q, the facet's apex, is the first node met on the facet (stored in `apex`
+ * when still POLY_NO_APEX), and O, common to all facets, the first node of the
+ * whole boundary. Any points would do in exact arithmetic; these lie on the
+ * overlap, so the tetrahedra are the size of the overlap. Points far from it
+ * (the foot of the local origin on the facet's plane, a corner of the facet)
+ * make tetrahedra R/delta times the overlap for a contact of depth delta away
+ * from the centre line, which cancel to its volume: the float nodes' rounding
+ * then came out amplified by that factor in single and mixed precision (a
+ * vertex 1e-5 D into a face: volumes wrong by 10x, contacts lost). The
+ * determinant is det(q - O, x1 - q, x2 - x1): x2 - x1 is short and exact, and
+ * two long, nearly parallel sides (q far from the segment, where a facet
+ * touches the other body in two places) would leave the rounding of their
+ * cross product across the facet. `of_a`: a facet of A, which also counts for
+ * the area and eq. 4.19. The tetrahedra are evaluated in the accumulation type
+ * (mixed precision promotes the float nodes first). */
+POLY_INLINE void POLY_FN(add_segment)(POLY_FN(accumulator) *acc, R *apex, const R *unit_normal, const R *x1,
                                       const R *x2, int of_a)
 {
+  if (!acc->has_reference) {
+    for (int k = 0; k < 3; k++) acc->reference[k] = x1[k];
+    acc->has_reference = 1;
+  }
+  if (apex[0] == POLY_NO_APEX)
+    for (int k = 0; k < 3; k++) apex[k] = x1[k];
+  ACC q[3], e1[3], side[3];
+  for (int k = 0; k < 3; k++) {
+    q[k] = (ACC)apex[k] - (ACC)acc->reference[k];
+    e1[k] = (ACC)x1[k] - (ACC)apex[k];
+    side[k] = (ACC)x2[k] - (ACC)x1[k];
+  }
+  ACC cross[3] = {e1[1] * side[2] - e1[2] * side[1], e1[2] * side[0] - e1[0] * side[2],
+                  e1[0] * side[1] - e1[1] * side[0]};
   ACC n[3] = {unit_normal[0], unit_normal[1], unit_normal[2]};
-  ACC c[3] = {corner[0], corner[1], corner[2]};
-  ACC y1[3] = {x1[0], x1[1], x1[2]}, y2[3] = {x2[0], x2[1], x2[2]};
-  ACC offset = n[0] * c[0] + n[1] * c[1] + n[2] * c[2];
-  ACC p[3] = {offset * n[0], offset * n[1], offset * n[2]};
-  ACC v6 = p[0] * (y1[1] * y2[2] - y1[2] * y2[1]) + p[1] * (y1[2] * y2[0] - y1[0] * y2[2]) +
-           p[2] * (y1[0] * y2[1] - y1[1] * y2[0]);
+  ACC twice_area = n[0] * cross[0] + n[1] * cross[1] + n[2] * cross[2];
+  ACC v6 = q[0] * cross[0] + q[1] * cross[1] + q[2] * cross[2];
   acc->volume6 += v6;
-  for (int k = 0; k < 3; k++) acc->moment24[k] += v6 * (p[k] + y1[k] + y2[k]);
+  for (int k = 0; k < 3; k++) acc->moment24[k] += v6 * ((ACC)3 * q[k] + (ACC)2 * e1[k] + side[k]);
   if (of_a) {
-    ACC e1[3] = {y1[0] - p[0], y1[1] - p[1], y1[2] - p[2]}, e2[3] = {y2[0] - p[0], y2[1] - p[1], y2[2] - p[2]};
-    ACC cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    ACC area = (ACC)0.5 * (n[0] * cross[0] + n[1] * cross[1] + n[2] * cross[2]);
+    ACC area = (ACC)0.5 * twice_area;
     acc->area += area;
     for (int k = 0; k < 3; k++) acc->area_normal[k] += area * n[k];
   }
@@ -343,7 +369,8 @@ POLY_INLINE int POLY_FN(point_inside)(const R *x, const R *ray, R ray_length, in
 /* Inside parts of every edge of `mine` (crossing `other`): each adds a segment to
  * both triangles of the edge, in their own orientations. */
 POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, const R *my_vertices,
-                                           const R *my_unit_normals, const unsigned char *my_inside, int mine_is_b,
+                                           const R *my_unit_normals, R *my_apexes, const unsigned char *my_inside,
+                                           int mine_is_b,
                                            const POLY_FN(shape_view) *other, const R *other_vertices,
                                            const R *other_planes, const R *other_bounds,
                                            const int *other_kept_list, int other_num_kept, const R *axis,
@@ -387,7 +414,6 @@ POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, cons
     POLY_FN(sub)(p1, p0, direction);
     R start = 0;
     int forward = mine->edge_triangles[2 * e], backward = mine->edge_triangles[2 * e + 1];
-    const int *tri_forward = mine->triangles + 3 * forward, *tri_backward = mine->triangles + 3 * backward;
     /* Crossings whose rounded positions came out of order (an edge nearly in the
      * plane of a face it crosses) would pair the wrong ends. Then the inside part
      * is written as the chain inside(p0) [p0, p1] + sum over crossings of
@@ -396,18 +422,18 @@ POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, cons
     for (int c = 0, state = inside; c < count && ordered; c++, state = !state) ordered = (entering[c] > 0) == !state;
     if (!ordered) {
       const R *n_forward = my_unit_normals + 3 * forward, *n_backward = my_unit_normals + 3 * backward;
-      const R *c_forward = my_vertices + 3 * tri_forward[0], *c_backward = my_vertices + 3 * tri_backward[0];
+      R *apex_forward = my_apexes + 3 * forward, *apex_backward = my_apexes + 3 * backward;
       for (int c = 0; c < count; c++) {
         R x[3];
         for (int k = 0; k < 3; k++) x[k] = p0[k] + ws->crossings[c] * direction[k];
         POLY_FN(add_point)(ws, num_points, x);
         const R *from = entering[c] > 0 ? x : p1, *to = entering[c] > 0 ? p1 : x;
-        POLY_FN(add_segment)(acc, c_forward, n_forward, from, to, !mine_is_b);
-        POLY_FN(add_segment)(acc, c_backward, n_backward, to, from, !mine_is_b);
+        POLY_FN(add_segment)(acc, apex_forward, n_forward, from, to, !mine_is_b);
+        POLY_FN(add_segment)(acc, apex_backward, n_backward, to, from, !mine_is_b);
       }
       if (inside) {
-        POLY_FN(add_segment)(acc, c_forward, n_forward, p0, p1, !mine_is_b);
-        POLY_FN(add_segment)(acc, c_backward, n_backward, p1, p0, !mine_is_b);
+        POLY_FN(add_segment)(acc, apex_forward, n_forward, p0, p1, !mine_is_b);
+        POLY_FN(add_segment)(acc, apex_backward, n_backward, p1, p0, !mine_is_b);
       }
       continue;
     }
@@ -424,10 +450,8 @@ POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, cons
           x1[k] = p0[k] + start * direction[k];
           x2[k] = p0[k] + stop * direction[k];
         }
-        POLY_FN(add_segment)(acc, my_vertices + 3 * tri_forward[0], my_unit_normals + 3 * forward, x1,
-                             x2, !mine_is_b);
-        POLY_FN(add_segment)(acc, my_vertices + 3 * tri_backward[0], my_unit_normals + 3 * backward, x2,
-                             x1, !mine_is_b);
+        POLY_FN(add_segment)(acc, my_apexes + 3 * forward, my_unit_normals + 3 * forward, x1, x2, !mine_is_b);
+        POLY_FN(add_segment)(acc, my_apexes + 3 * backward, my_unit_normals + 3 * backward, x2, x1, !mine_is_b);
       }
       inside = !inside;
       start = stop;
@@ -464,7 +488,7 @@ POLY_INLINE void POLY_FN(chord_ends)(const R *mine_vertices, const int *mine, in
 POLY_INLINE void POLY_FN(accumulate_triangle_pair)(const POLY_FN(shape_view) *a, const R *va, const R *planes_a,
                                                    const R *normals_a, int t, const POLY_FN(shape_view) *b,
                                                    const R *vb, const R *planes_b, const R *normals_b, int s,
-                                                   POLY_FN(accumulator) *acc)
+                                                   POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc)
 {
   const int *ta = a->triangles + 3 * t, *tb = b->triangles + 3 * s;
   /* A triangle wholly on one side of the other's plane cannot cross it: the
@@ -493,8 +517,8 @@ POLY_INLINE void POLY_FN(accumulate_triangle_pair)(const POLY_FN(shape_view) *a,
   const R *na = normals_a + 3 * t;
   const R *first = ends[0], *second = ends[1];
   if (!starts[0]) { first = ends[1]; second = ends[0]; }
-  POLY_FN(add_segment)(acc, va + 3 * ta[0], na, first, second, 1);
-  POLY_FN(add_segment)(acc, vb + 3 * tb[0], normals_b + 3 * s, second, first, 0);
+  POLY_FN(add_segment)(acc, ws->apex_a + 3 * t, na, first, second, 1);
+  POLY_FN(add_segment)(acc, ws->apex_b + 3 * s, normals_b + 3 * s, second, first, 0);
 }
 
 POLY_INLINE void POLY_FN(triangle_bounds)(const R *vertices, const int *tri, R *low, R *high)
@@ -651,6 +675,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
       if (along > high) high = along;
     }
     ws->kept_a[t] = high >= limit_a;
+    ws->apex_a[3 * t] = POLY_NO_APEX;
     if (!ws->kept_a[t]) continue;
     ws->kept_list_a[num_kept_a++] = t;
     POLY_FN(prepare_kept_triangle)(va, tri, ws->planes_a + 4 * t, ws->bounds_a + 6 * t, box_a_low, box_a_high);
@@ -663,6 +688,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
       if (along < low) low = along;
     }
     ws->kept_b[s] = low <= limit_b;
+    ws->apex_b[3 * s] = POLY_NO_APEX;
     if (!ws->kept_b[s]) continue;
     ws->kept_list_b[num_kept_b++] = s;
     POLY_FN(prepare_kept_triangle)(vb, tri, ws->planes_b + 4 * s, ws->bounds_b + 6 * s, box_b_low, box_b_high);
@@ -710,11 +736,11 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     if (ws->inside_b[j]) POLY_FN(add_point)(ws, &num_points, x);
   }
 
-  POLY_FN(accumulator) acc = {0, {0, 0, 0}, {0, 0, 0}, 0};
+  POLY_FN(accumulator) acc = {0, {0, 0, 0}, {0, 0, 0}, 0, {0, 0, 0}, 0};
   int inconsistent = 0;
-  POLY_FN(accumulate_edges)(a, va, a->face_normals, ws->inside_a, 0, b, vb, ws->planes_b, ws->bounds_b,
+  POLY_FN(accumulate_edges)(a, va, a->face_normals, ws->apex_a, ws->inside_a, 0, b, vb, ws->planes_b, ws->bounds_b,
                             ws->kept_list_b, num_kept_b, axis, limit_a, ws, &acc, &num_points, &inconsistent);
-  POLY_FN(accumulate_edges)(b, vb, ws->normals_b, ws->inside_b, 1, a, va, ws->planes_a, ws->bounds_a,
+  POLY_FN(accumulate_edges)(b, vb, ws->normals_b, ws->apex_b, ws->inside_b, 1, a, va, ws->planes_a, ws->bounds_a,
                             ws->kept_list_a, num_kept_a, axis, limit_b, ws, &acc, &num_points, &inconsistent);
   for (int m = 0; m < num_kept_a; m++) {
     int t = ws->kept_list_a[m];
@@ -723,7 +749,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
       int s = ws->kept_list_b[n];
       if (!POLY_FN(boxes_overlap)(box_t, box_t + 3, ws->bounds_b + 6 * s)) continue;
       POLY_FN(accumulate_triangle_pair)(a, va, ws->planes_a, a->face_normals, t, b, vb, ws->planes_b,
-                                        ws->normals_b, s, &acc);
+                                        ws->normals_b, s, ws, &acc);
     }
   }
 
@@ -733,7 +759,8 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   double volume = (double)acc.volume6 / 6.0;
   if (!(volume > 0.0)) return;
   result->volume = volume;
-  for (int k = 0; k < 3; k++) local_centroid[k] = (double)acc.moment24[k] / (24.0 * volume) + origin[k];
+  for (int k = 0; k < 3; k++)
+    local_centroid[k] = (double)acc.moment24[k] / (24.0 * volume) + (double)acc.reference[k] + origin[k];
   result->area = (double)acc.area;
 
   /* Normal (eq. 4.19). When A's surface inside B sums to nothing (one body
@@ -766,5 +793,6 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   result->depth = high > low ? high - low : 0.0;
 }
 
+#undef POLY_NO_APEX
 #undef R
 #undef ACC
