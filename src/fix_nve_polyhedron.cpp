@@ -45,8 +45,7 @@ void FixNVEPolyhedron::reset_dt()
 // (poly_free_rotation_block: the NO_SQUISH splitting in structure-of-arrays form, with
 // the inverse moments formed once, polynomial sin/cos of the small sub-rotation angles
 // and no rotation matrix for the conjugate momentum); a particle without angular
-// momentum (L = 0 exactly: q stays, omega = 0) skips the rotation. All of it equals
-// poly_free_rotation and poly_angmom_to_omega to round-off.
+// momentum (L = 0 exactly: q stays, omega = 0) skips the rotation.
 static inline bool zero_vector(const double *a)
 {
   return a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0;

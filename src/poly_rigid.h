@@ -136,53 +136,6 @@ POLY_INLINE double poly_rotational_energy(const double q[4], const double moment
   return energy;
 }
 
-/* Conjugate quaternion momentum p = 2 q (0, L_body) of NO_SQUISH, and back. */
-POLY_INLINE void poly_angmom_to_conjugate(const double q[4], const double angmom[3], double p[4])
-{
-  double r[9], body[4];
-  poly_quat_to_matrix(q, r);
-  body[0] = 0.0;
-  poly_matrix_apply_transpose(r, angmom, body + 1);
-  poly_quat_multiply(q, body, p);
-  p[0] *= 2.0; p[1] *= 2.0; p[2] *= 2.0; p[3] *= 2.0;
-}
-
-POLY_INLINE void poly_conjugate_to_angmom(const double q[4], const double p[4], double angmom[3])
-{
-  double conj[4] = {q[0], -q[1], -q[2], -q[3]}, body[4], r[9];
-  poly_quat_multiply(conj, p, body);
-  body[1] *= 0.5; body[2] *= 0.5; body[3] *= 0.5;
-  poly_quat_to_matrix(q, r);
-  poly_matrix_apply(r, body + 1, angmom);
-}
-
-/* P_k q: the quaternion of an infinitesimal body rotation about principal axis k. */
-POLY_INLINE void poly_no_squish_permute(int axis, const double q[4], double out[4])
-{
-  if (axis == 1)      { out[0] = -q[1]; out[1] =  q[0]; out[2] =  q[3]; out[3] = -q[2]; }
-  else if (axis == 2) { out[0] = -q[2]; out[1] = -q[3]; out[2] =  q[0]; out[3] =  q[1]; }
-  else                { out[0] = -q[3]; out[1] =  q[2]; out[2] = -q[1]; out[3] =  q[0]; }
-}
-
-/* Exact free rotation about body axis `axis` (1..3) for time dt. */
-POLY_INLINE void poly_no_squish_rotate(int axis, double p[4], double q[4],
-                                       const double moments[3], double dt)
-{
-  double kq[4], kp[4];
-  double moment = moments[axis - 1];
-  if (!(moment > 0.0)) return;
-  poly_no_squish_permute(axis, q, kq);
-  poly_no_squish_permute(axis, p, kp);
-  double phi = (p[0] * kq[0] + p[1] * kq[1] + p[2] * kq[2] + p[3] * kq[3]) / (4.0 * moment);
-  double c = cos(dt * phi), s = sin(dt * phi);
-  for (int i = 0; i < 4; i++) {
-    double p_new = c * p[i] + s * kp[i];
-    double q_new = c * q[i] + s * kq[i];
-    p[i] = p_new;
-    q[i] = q_new;
-  }
-}
-
 /* sin a and cos a for |a| <= 1/8 by their Taylor polynomials through a^11 and a^10: the
  * first omitted terms, a^13/13! and a^12/12!, are below 3e-20 relative, far under
  * round-off, so the results agree with libm's to about an ulp, without its call and range
@@ -227,14 +180,14 @@ POLY_HOT_INLINE void poly_angmom_to_omega_fast(const double q[4], const double m
   omega[2] = r[6] * b0 + r[7] * b1 + r[8] * b2;
 }
 
-/* NO_SQUISH for many particles at once (fix nve/polyhedron). The sub-rotation about body
- * axis k over h is the exact flow of L_k^2 / 2 I_k: q -> q (cos x, sin x e_k) with
- * x = h L_k / 2 I_k, which is poly_no_squish_rotate's c q + s P_k q (P_k q = q e_k, and
- * p . P_k q = 2 L_k for p = 2 q (0, L_body)), while the body angular momentum turns by -2x
- * about axis k (the world L stays put). Tracking L_body instead of p is the same map, equal
- * to round-off, with shorter dependency chains; and a block of particles is advanced side
- * by side, in structure-of-arrays form, so that their independent chains overlap and the
- * compiler can vectorise them. */
+/* NO_SQUISH (Miller et al. 2002) for many particles at once (fix nve/polyhedron): the
+ * symmetric 3-2-1-2-3 splitting of the free rotation. The sub-rotation about body axis k
+ * over h is the exact flow of L_k^2 / 2 I_k: q -> q (cos x, sin x e_k) with x = h L_k / 2 I_k
+ * (NO_SQUISH's c q + s P_k q with P_k q = q e_k and conjugate momentum p = 2 q (0, L_body)),
+ * while the body angular momentum turns by -2x about axis k (the world L stays put).
+ * Tracking L_body instead of p is the same map with shorter dependency chains; and a block
+ * of particles is advanced side by side, in structure-of-arrays form, so that their
+ * independent chains overlap and the compiler can vectorise them. */
 #define POLY_ROTATION_BLOCK 8
 
 /* One sub-rotation about body axis `axis` (1..3) over h for a whole block. */
@@ -256,7 +209,7 @@ POLY_HOT_INLINE void poly_no_squish_block_axis(int axis, double q[4][POLY_ROTATI
   }
   for (int n = 0; n < B; n++) {
     double w = q[0][n], qx = q[1][n], qy = q[2][n], qz = q[3][n], k0, k1, k2, k3;
-    /* P_k q = q e_k, as poly_no_squish_permute */
+    /* P_k q = q e_k */
     if (axis == 1)      { k0 = -qx; k1 =  w;  k2 =  qz; k3 = -qy; }
     else if (axis == 2) { k0 = -qy; k1 = -qz; k2 =  w;  k3 =  qx; }
     else                { k0 = -qz; k1 =  qy; k2 = -qx; k3 =  w;  }
@@ -321,7 +274,7 @@ POLY_HOT_INLINE void poly_block_to_omega(const double q[4][POLY_ROTATION_BLOCK],
   }
 }
 
-/* poly_free_rotation followed by poly_angmom_to_omega at the new orientation, for count
+/* The NO_SQUISH free rotation followed by poly_angmom_to_omega at the new orientation, for count
  * (1..POLY_ROTATION_BLOCK) particles: quaternion[n], moments[n] (body principal moments),
  * angmom[n] (world) and omega[n] (world, written) point at particle n's data. */
 POLY_HOT_INLINE void poly_free_rotation_block(int count, double *const quaternion[], const double *const moments[],
@@ -348,22 +301,6 @@ POLY_HOT_INLINE void poly_free_rotation_block(int count, double *const quaternio
     for (int k = 0; k < 4; k++) quaternion[n][k] = q[k][n];
     for (int k = 0; k < 3; k++) omega[n][k] = world[k][n];
   }
-}
-
-/* Torque-free rotation of (q, L_world) over dt by the symmetric 3-2-1-2-3 splitting.
- * L_world is unchanged by a free rotation; only q moves. */
-POLY_INLINE void poly_free_rotation(double q[4], const double moments[3],
-                                    const double angmom[3], double dt)
-{
-  double p[4];
-  poly_angmom_to_conjugate(q, angmom, p);
-  poly_no_squish_rotate(3, p, q, moments, 0.5 * dt);
-  poly_no_squish_rotate(2, p, q, moments, 0.5 * dt);
-  poly_no_squish_rotate(1, p, q, moments, dt);
-  poly_no_squish_rotate(2, p, q, moments, 0.5 * dt);
-  poly_no_squish_rotate(3, p, q, moments, 0.5 * dt);
-  /* |q| is preserved exactly in exact arithmetic; renormalising only removes round-off. */
-  poly_quat_normalize(q);
 }
 
 #endif
