@@ -3,7 +3,7 @@
 # Skips apt-get entirely when everything is already installed.
 set -euo pipefail
 packages=(liggghts libliggghts-dev libopenmpi-dev openmpi-bin make g++ gcc binutils
-          python3 python3-numpy python3-matplotlib python3-pytest
+          python3 python3-numpy python3-scipy python3-matplotlib python3-pytest
           python3-paraview xvfb xauth)   # ParaView's Python under Xvfb: tools/render_scene.py
 missing=()
 for package in "${packages[@]}"; do
