@@ -35,8 +35,8 @@ ifeq ($(CUDA_ENABLED),on)
   ifeq ($(CUDART_STATIC),)
     $(error CUDA=on but no nvcc or libcudart_static.a was found (NVCC='$(NVCC)', CUDA_ROOT='$(CUDA_ROOT)'); set NVCC= or CUDART_STATIC=, or build with CUDA=off)
   endif
-  CUDA_OBJECTS := $(BUILD)/obj/poly_gpu.o
-  GPU_TEST := $(BUILD)/tests/gpu_agreement
+  CUDA_OBJECTS := $(BUILD)/obj/poly_gpu.o $(BUILD)/obj/poly_gpu_wall.o
+  GPU_TEST := $(BUILD)/tests/gpu_agreement $(BUILD)/tests/gpu_wall_agreement
   # cudart linked statically: the library runs (and reports "no GPU") on hosts without CUDA.
   CUDA_LIBS := $(CUDART_STATIC) -ldl -lrt -lpthread
   CUDA_DEFINE := -DPOLY_HAVE_CUDA
@@ -66,12 +66,12 @@ $(BUILD)/obj/%.o: src/%.cpp $(wildcard src/*.h) Makefile Makefile.package
 	@mkdir -p $(dir $@)
 	$(MPICXX) $(CXXFLAGS) -c $< -o $@
 
-$(BUILD)/obj/poly_gpu.o: gpu/poly_gpu.cu gpu/poly_gpu.h $(wildcard src/poly_*.h) Makefile Makefile.package
+$(BUILD)/obj/%.o: gpu/%.cu $(wildcard gpu/*.h gpu/*.cuh) $(wildcard src/poly_*.h) Makefile Makefile.package
 	@mkdir -p $(dir $@)
 	$(NVCC) $(NVCCFLAGS) -c $< -o $@
 
-# GPU vs CPU agreement, pair by pair (tests/test_gpu.py runs it where there is a GPU).
-$(BUILD)/tests/gpu_agreement: tests/unit/gpu_agreement.cpp $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,$(OBJECTS))
+# GPU vs CPU agreement, pair by pair and wall piece by piece (tests/test_gpu.py runs them where there is a GPU).
+$(BUILD)/tests/%: tests/unit/%.cpp $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,$(OBJECTS))
 	@mkdir -p $(dir $@)
 	$(CXX) -std=c++11 $(OPT) -Isrc -Igpu $< $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,$(OBJECTS)) $(CUDA_LIBS) -lm -o $@
 

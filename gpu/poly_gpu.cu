@@ -22,44 +22,19 @@
  * per-thread blocks of a scratch buffer in global memory. */
 #include "poly_gpu.h"
 
-#include <cuda_runtime.h>
-#include <stdio.h>
 #include <string.h>
 
-#include <chrono>
 #include <vector>
 
-#include "poly_overlap.h"
+#include "poly_gpu_device.cuh"
 
-#include "poly_overlap_instances.h"
+using namespace poly_gpu_detail;
 
 namespace {
-
-// Shapes packed in flat device arrays; per shape the offsets into them.
-struct DeviceShapes {
-  int count;
-  int max_vertices, max_triangles;
-  int *offsets;               // 3 per shape: vertex, triangle, edge offset
-  int *counts;                // 3 per shape: vertices, triangles, edges
-  double *radius;
-  double *vertices_d, *normals_d;
-  float *vertices_f, *normals_f;
-  int *triangles, *edges, *edge_triangles;
-};
 
 // Per pair: what the contact kernel leaves for the reduction.
 struct PairForce {
   double force_j[3], torque_i[3], torque_j[3];
-};
-
-template <typename T> struct DeviceArray {
-  T *data;
-  size_t capacity;
-};
-
-template <typename T> struct PinnedArray {
-  T *data;
-  size_t capacity;
 };
 
 struct State {
@@ -86,141 +61,6 @@ struct State {
 
 State state = {};
 
-double now()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-bool check(cudaError_t status, const char *what, char *message, size_t size)
-{
-  if (status == cudaSuccess) return true;
-  if (message) snprintf(message, size, "CUDA error in %s: %s", what, cudaGetErrorString(status));
-  return false;
-}
-
-template <typename T> bool ensure(DeviceArray<T> &a, size_t count, char *message, size_t size)
-{
-  if (count <= a.capacity && a.data) return true;
-  cudaFree(a.data);
-  a.data = NULL;
-  a.capacity = 0;
-  size_t grown = count + count / 4 + 64;
-  if (!check(cudaMalloc((void **)&a.data, sizeof(T) * grown), "cudaMalloc", message, size)) return false;
-  a.capacity = grown;
-  return true;
-}
-
-template <typename T> bool ensure(PinnedArray<T> &a, size_t count, char *message, size_t size)
-{
-  if (count <= a.capacity && a.data) return true;
-  cudaFreeHost(a.data);
-  a.data = NULL;
-  a.capacity = 0;
-  size_t grown = count + count / 4 + 64;
-  if (!check(cudaMallocHost((void **)&a.data, sizeof(T) * grown), "cudaMallocHost", message, size)) return false;
-  a.capacity = grown;
-  return true;
-}
-
-template <typename T> bool upload(DeviceArray<T> &a, const T *host, size_t count, char *message, size_t size)
-{
-  if (!ensure(a, count, message, size)) return false;
-  if (count == 0) return true;
-  return check(cudaMemcpy(a.data, host, sizeof(T) * count, cudaMemcpyHostToDevice), "cudaMemcpy", message, size);
-}
-
-template <typename T> void release(DeviceArray<T> &a)
-{
-  cudaFree(a.data);
-  a.data = NULL;
-  a.capacity = 0;
-}
-
-template <typename T> void release(PinnedArray<T> &a)
-{
-  cudaFreeHost(a.data);
-  a.data = NULL;
-  a.capacity = 0;
-}
-
-template <typename T> size_t bytes_of(const DeviceArray<T> &a) { return a.capacity * sizeof(T); }
-
-// A view of shape `shape` in the flat device arrays, with vertices and normals
-// of the view's scalar type.
-template <typename View, typename Real>
-__device__ View shape_view(const DeviceShapes &s, int shape, const Real *vertices, const Real *normals)
-{
-  View v;
-  v.num_vertices = s.counts[3 * shape];
-  v.num_triangles = s.counts[3 * shape + 1];
-  v.num_edges = s.counts[3 * shape + 2];
-  v.vertices = vertices + 3 * s.offsets[3 * shape];
-  v.face_normals = normals + 3 * s.offsets[3 * shape + 1];
-  v.triangles = s.triangles + 3 * s.offsets[3 * shape + 1];
-  v.edges = s.edges + 2 * s.offsets[3 * shape + 2];
-  v.edge_triangles = s.edge_triangles + 2 * s.offsets[3 * shape + 2];
-  v.bounding_radius = (Real)s.radius[shape];
-  return v;
-}
-
-// The overlap code of one precision (poly_overlap_instances.h): its shape
-// views, workspace and functions, for the kernel templates.
-template <int Precision> struct Narrow;
-#define POLY_GPU_NARROW(PRECISION, REAL, GEOMETRY, SUFFIX)                                                        \
-  template <> struct Narrow<PRECISION> {                                                                           \
-    typedef REAL Real;                                                                                             \
-    typedef poly_shape_view##GEOMETRY View;                                                                        \
-    typedef poly_overlap_workspace##GEOMETRY Workspace;                                                            \
-    static __device__ View view(const DeviceShapes &s, int shape)                                                  \
-    {                                                                                                              \
-      return shape_view<View>(s, shape, s.vertices##GEOMETRY, s.normals##GEOMETRY);                              \
-    }                                                                                                              \
-    static __host__ __device__ size_t layout(Workspace *ws, void *memory, int max_vertices, int max_triangles)    \
-    {                                                                                                              \
-      return poly_overlap_workspace_layout##SUFFIX(ws, memory, max_vertices, max_triangles);                      \
-    }                                                                                                              \
-    static __device__ int separated(const View *a, const View *b, const double *rotation, const double *translation) \
-    {                                                                                                              \
-      double axis[3], extent_a, extent_b;                                                                          \
-      return poly_overlap_slab##SUFFIX(a, b, rotation, translation, axis, &extent_a, &extent_b);                  \
-    }                                                                                                              \
-    static __device__ void overlap(const View *a, const View *b, const double *rotation, const double *translation, \
-                                   Workspace *ws, double *centroid, double *normal, poly_overlap_result *result)   \
-    {                                                                                                              \
-      poly_overlap_local##SUFFIX(a, b, rotation, translation, ws, centroid, normal, result);                      \
-    }                                                                                                              \
-  };
-POLY_GPU_NARROW(POLY_PRECISION_DOUBLE, double, _d, _d)
-POLY_GPU_NARROW(POLY_PRECISION_SINGLE, float, _f, _f)
-POLY_GPU_NARROW(POLY_PRECISION_MIXED, float, _f, _m)
-#undef POLY_GPU_NARROW
-
-// Where a thread's overlap workspace lives: an array of Bytes in its local
-// memory, or (Bytes = 0) its block of the global scratch buffer.
-template <size_t Bytes> struct WorkspaceMemory {
-  double block[(Bytes + sizeof(double) - 1) / sizeof(double)];
-  __device__ char *get(char *, int, size_t) { return (char *)block; }
-};
-template <> struct WorkspaceMemory<0> {
-  __device__ char *get(char *scratch, int local, size_t bytes_per_thread)
-  {
-    return scratch + (size_t)local * bytes_per_thread;
-  }
-};
-
-// Bytes of the local-memory workspace of a precision.
-template <int Precision> struct LocalWorkspace {
-  static const size_t bytes = POLY_GPU_LOCAL_WORKSPACE_REALS * sizeof(typename Narrow<Precision>::Real);
-};
-
-const int kThreads = 128;
-
-// Blocks of the contact kernel each SM must be able to hold: 2 leaves ptxas
-// all 255 registers (no spills, 8 warps per SM); 3 caps it at 168 and 4 at
-// 128, trading spills for occupancy. tools/bench_gpu.sh measures the choices.
-#ifndef POLY_GPU_CONTACT_MIN_BLOCKS
-#define POLY_GPU_CONTACT_MIN_BLOCKS 2
-#endif
 
 // Pairs whose bounding spheres overlap, and whose bodies overlap along the
 // centre line, go to the compact list (one atomic per warp); the others are
@@ -440,6 +280,11 @@ bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_res
 
 }  // namespace
 
+const DeviceShapes *poly_gpu_detail::device_shapes()
+{
+  return state.ready ? &state.shapes : NULL;
+}
+
 extern "C" int poly_gpu_device_count(void)
 {
   int count = 0;
@@ -656,7 +501,7 @@ extern "C" size_t poly_gpu_bytes(void)
          bytes_of(state.history) + bytes_of(state.contact) + bytes_of(state.touching) + bytes_of(state.counters) +
          bytes_of(state.pair_force) + bytes_of(state.results) + bytes_of(state.csr_offsets) +
          bytes_of(state.csr_entries) + bytes_of(state.force_torque) + bytes_of(state.materials) +
-         bytes_of(state.scratch);
+         bytes_of(state.scratch) + wall_bytes();
 }
 
 extern "C" void poly_gpu_clear(void)
@@ -667,5 +512,6 @@ extern "C" void poly_gpu_clear(void)
   release(state.pair_force); release(state.results); release(state.csr_offsets); release(state.csr_entries);
   release(state.force_torque); release(state.materials); release(state.scratch);
   release(state.host_motion); release(state.host_force_torque);
+  wall_clear();
   state = State();
 }

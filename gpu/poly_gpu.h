@@ -14,6 +14,14 @@
  *                          history lives on the device between rebuilds
  *   poly_gpu_clear         free everything
  *
+ * and for the walls of fix wall/polyhedral (gpu/poly_gpu_wall.cu), on the
+ * shapes of poly_gpu_init:
+ *
+ *   poly_gpu_wall_buffer   pinned host buffer of particle-prism candidates
+ *   poly_gpu_wall_overlaps their overlaps (volume, centroid, normal, depth,
+ *                          area vector and intersection nodes), as the host's
+ *                          poly_overlap_d + poly_overlap_nodes_d give them
+ *
  * Device memory and the pinned host buffers are owned here and grown, never
  * shrunk. The kernels call the same overlap geometry (src/poly_overlap_impl.h)
  * and contact law (src/poly_contact.h) as the CPU style. */
@@ -21,8 +29,11 @@
 #define POLY_GPU_H
 
 #include <stddef.h>
+#include <string.h>
 
 #include "poly_contact.h"
+#include "poly_mesh_shell.h"
+#include "poly_overlap.h"
 #include "poly_shape.h"
 
 #ifdef __cplusplus
@@ -66,6 +77,42 @@ typedef struct poly_gpu_result {
   double volume, depth, normal[3], centroid[3], normal_force, tangential_force[3];
 } poly_gpu_result;
 
+/* A particle against one prism of a mesh wall's shell (poly_mesh_prism of
+ * src/poly_mesh_shell.h, which this mirrors without its host pointers). */
+typedef struct poly_gpu_wall_piece {
+  int shape;                     /* the particle's: index into the shapes given to poly_gpu_init */
+  int pad;
+  double position[3], quaternion[4];  /* the particle's pose */
+  double origin[3];              /* the prism's vertices are relative to this point (world) */
+  double vertices[18];           /* 6 vertices, world orientation */
+  double face_normals[24];       /* 8 triangles */
+  double bounding_radius;        /* about origin */
+  int triangles[24], edges[24], edge_triangles[24];
+} poly_gpu_wall_piece;
+
+/* The prism half of a piece. */
+static inline void poly_gpu_wall_piece_set_prism(poly_gpu_wall_piece *piece, const poly_mesh_prism *prism)
+{
+  memcpy(piece->origin, prism->origin, sizeof piece->origin);
+  memcpy(piece->vertices, prism->vertices, sizeof piece->vertices);
+  memcpy(piece->face_normals, prism->face_normals, sizeof piece->face_normals);
+  piece->bounding_radius = prism->view.bounding_radius;
+  memcpy(piece->triangles, prism->triangles, sizeof piece->triangles);
+  memcpy(piece->edges, prism->edges, sizeof piece->edges);
+  memcpy(piece->edge_triangles, prism->edge_triangles, sizeof piece->edge_triangles);
+}
+
+/* A piece's overlap: geometry as poly_overlap_d returns it (world frame, the
+ * particle as A); its geometry.num_nodes intersection nodes, relative to the
+ * particle's position as poly_overlap_nodes_d gives them, start at
+ * nodes[3 * first_node] of poly_gpu_wall_overlaps' node array. num_nodes = -1
+ * (first_node -1) where the host would not keep them either (more nodes than
+ * the overlap workspace holds). */
+typedef struct poly_gpu_wall_overlap {
+  poly_overlap_result geometry;
+  int first_node, pad;
+} poly_gpu_wall_overlap;
+
 /* Accumulated wall-clock seconds of poly_gpu_set_pairs and of the phases of
  * poly_gpu_compute, and how often each ran. */
 typedef struct poly_gpu_timing {
@@ -105,6 +152,20 @@ const double *poly_gpu_force_torque(void);
 
 /* The contact history and contact flags of the pairs of poly_gpu_set_pairs. */
 int poly_gpu_get_history(double *history, int *contact, char *message, size_t message_size);
+
+/* Pinned host buffer for count pieces, filled by the caller before
+ * poly_gpu_wall_overlaps; valid until the next call. NULL on failure. */
+poly_gpu_wall_piece *poly_gpu_wall_buffer(int count);
+
+/* The overlaps of the count pieces of poly_gpu_wall_buffer in precision
+ * `precision` (poly_precision), into overlaps[count]; *nodes points to the
+ * nodes (pinned host memory, valid until the next call). 0, or -1 with a
+ * message. */
+int poly_gpu_wall_overlaps(int precision, int count, poly_gpu_wall_overlap *overlaps, const double **nodes,
+                           char *message, size_t message_size);
+
+/* Seconds spent in poly_gpu_wall_overlaps, and its calls. */
+double poly_gpu_wall_seconds(long *calls);
 
 poly_gpu_timing poly_gpu_timings(void);
 

@@ -20,6 +20,7 @@
 
 #include "fix_particletemplate_polyhedron.h"
 #include "pair_polyhedral_volumetric.h"
+#include "pair_polyhedral_volumetric_gpu.h"
 #include "poly_halfspace.h"
 
 using namespace LAMMPS_NS;
@@ -29,7 +30,7 @@ using namespace FixConst;
 //     primitive type T xplane|yplane|zplane POS  |  mesh n_meshes K meshes MESH-ID ...
 FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), thickness(0.0), shell_thickness(0.0),
-      have_workspace(false), tangential(-1), damping(-1), history_id(NULL), history(NULL), pair(NULL),
+      have_workspace(false), gpu_precision(-1), tangential(-1), damping(-1), history_id(NULL), history(NULL), pair(NULL),
       force_summed(false)
 {
   if (strcmp(atom->atom_style, "polyhedron") != 0) error->all(FLERR, "Fix wall/polyhedral requires atom_style polyhedron");
@@ -178,6 +179,8 @@ void FixWallPolyhedral::init()
   use_tangential = tangential < 0 ? pair->tangential_history_on() : tangential;
   use_damping = damping < 0 ? pair->damping_on() : damping;
   PairPolyhedralVolumetric::material_table(lmp, style, use_damping, use_tangential, materials);
+  // With the /gpu pair style the meshes' overlaps run on its GPU, in its precision.
+  gpu_precision = dynamic_cast<PairPolyhedralVolumetricGPU *>(pair) ? pair->narrow_precision() : -1;
   if (meshes.empty()) return;
 
   for (size_t m = 0; m < meshes.size(); m++) {
@@ -382,67 +385,145 @@ void FixWallPolyhedral::collect_pieces(int m)
 {
   TriMesh *mesh = meshes[m]->triMesh();
   FixNeighlistMesh *list = meshes[m]->meshNeighlist();
-  MultiVectorContainer<double, 3, 3> *velocity_container =
-      mesh->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v");
-  double ***vertex_velocity = velocity_container ? velocity_container->begin() : NULL;
-  double **x = atom->x, **quaternion = atom->quaternion, *radius = atom->radius;
-  int *mask = atom->mask, *shapetype = atom->shapetype;
+  double **x = atom->x, *radius = atom->radius;
+  int *mask = atom->mask;
   const int nlocal = atom->nlocal, triangles = mesh->size();
-  pieces.clear();
-  nodes.clear();
+  prisms.clear();
+  candidates.clear();
   for (int j = 0; j < triangles; j++) {
-    const std::vector<int> &candidates = list->get_contact_list(j);
-    if (candidates.empty()) continue;
+    const std::vector<int> &neighbours = list->get_contact_list(j);
+    if (neighbours.empty()) continue;
     double corners[3][3];
     for (int k = 0; k < 3; k++) mesh->node(j, k, corners[k]);
     poly_mesh_prism prism;
     if (poly_mesh_shell_prism(&shells[m], mesh->id(j), corners, &prism) != 0) continue;
     const double *top_normal = prism.face_normals;
-    poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
-    for (size_t c = 0; c < candidates.size(); c++) {
-      int i = candidates[c];
+    int prism_index = -1;
+    for (size_t c = 0; c < neighbours.size(); c++) {
+      int i = neighbours[c];
       if (i >= nlocal || !(mask[i] & groupbit)) continue;
       double offset[3] = {x[i][0] - corners[0][0], x[i][1] - corners[0][1], x[i][2] - corners[0][2]};
       if (offset[0] * top_normal[0] + offset[1] * top_normal[1] + offset[2] * top_normal[2] >= radius[i]) continue;
       double to_prism[3] = {x[i][0] - prism.origin[0], x[i][1] - prism.origin[1], x[i][2] - prism.origin[2]};
       double reach = radius[i] + prism.view.bounding_radius;
       if (to_prism[0] * to_prism[0] + to_prism[1] * to_prism[1] + to_prism[2] * to_prism[2] >= reach * reach) continue;
-      poly_pose particle_pose = {{x[i][0], x[i][1], x[i][2]},
-                                 {quaternion[i][0], quaternion[i][1], quaternion[i][2], quaternion[i][3]}};
-      poly_overlap_result geometry;
-      poly_overlap_d(&pair->shape_view(shapetype[i]), &particle_pose, &prism.view, &prism_pose, &workspace, &geometry);
-      if (!(geometry.volume > 0.0)) continue;
-      MeshPiece piece;
-      piece.particle = i;
-      piece.triangle = j;
-      piece.triangle_id = mesh->id(j);
-      piece.geometry = geometry;
-      for (int k = 0; k < 3; k++) piece.wall_velocity[k] = 0.0;
-      if (vertex_velocity) {
-        // Barycentric coordinates of the centroid's foot on the triangle's plane (exact for rigid motions within
-        // the plane; the offset along the normal is of the order of the overlap depth).
-        double e1[3], e2[3], r[3];
-        for (int k = 0; k < 3; k++) {
-          e1[k] = corners[1][k] - corners[0][k];
-          e2[k] = corners[2][k] - corners[0][k];
-          r[k] = geometry.centroid[k] - corners[0][k];
-        }
-        double g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2],
-               g22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
-        double r1 = r[0] * e1[0] + r[1] * e1[1] + r[2] * e1[2], r2 = r[0] * e2[0] + r[1] * e2[1] + r[2] * e2[2];
-        double det = g11 * g22 - g12 * g12;
-        double b1 = (g22 * r1 - g12 * r2) / det, b2 = (g11 * r2 - g12 * r1) / det, b0 = 1.0 - b1 - b2;
-        for (int k = 0; k < 3; k++)
-          piece.wall_velocity[k] = b0 * vertex_velocity[j][0][k] + b1 * vertex_velocity[j][1][k] +
-                                   b2 * vertex_velocity[j][2][k];
+      if (prism_index < 0) {
+        prism_index = (int)prisms.size();
+        prisms.push_back(prism);
       }
-      piece.first_node = (int)nodes.size() / 3;
-      piece.num_nodes = workspace.num_points <= workspace.capacity_points ? workspace.num_points : -1;
-      if (piece.num_nodes > 0) {
-        nodes.resize(nodes.size() + 3 * (size_t)piece.num_nodes);
-        poly_overlap_nodes_d(&workspace, &particle_pose, &nodes[3 * (size_t)piece.first_node], piece.num_nodes);
+      MeshCandidate candidate = {i, j, prism_index};
+      candidates.push_back(candidate);
+    }
+  }
+  // The copies' views still point into the prism they were copied from.
+  for (size_t p = 0; p < prisms.size(); p++) {
+    poly_mesh_prism &prism = prisms[p];
+    prism.view.vertices = prism.vertices;
+    prism.view.face_normals = prism.face_normals;
+    prism.view.triangles = prism.triangles;
+    prism.view.edges = prism.edges;
+    prism.view.edge_triangles = prism.edge_triangles;
+  }
+  compute_overlaps();
+
+  MultiVectorContainer<double, 3, 3> *velocity_container =
+      mesh->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v");
+  double ***vertex_velocity = velocity_container ? velocity_container->begin() : NULL;
+  pieces.clear();
+  for (size_t c = 0; c < candidates.size(); c++) {
+    const poly_overlap_result &geometry = overlaps[c];
+    if (!(geometry.volume > 0.0)) continue;
+    int j = candidates[c].triangle;
+    MeshPiece piece;
+    piece.particle = candidates[c].particle;
+    piece.triangle = j;
+    piece.triangle_id = mesh->id(j);
+    piece.geometry = geometry;
+    piece.first_node = overlap_first_node[c];
+    piece.num_nodes = overlap_num_nodes[c];
+    for (int k = 0; k < 3; k++) piece.wall_velocity[k] = 0.0;
+    if (vertex_velocity) {
+      // Barycentric coordinates of the centroid's foot on the triangle's plane (exact for rigid motions within
+      // the plane; the offset along the normal is of the order of the overlap depth).
+      double corners[3][3], e1[3], e2[3], r[3];
+      for (int k = 0; k < 3; k++) mesh->node(j, k, corners[k]);
+      for (int k = 0; k < 3; k++) {
+        e1[k] = corners[1][k] - corners[0][k];
+        e2[k] = corners[2][k] - corners[0][k];
+        r[k] = geometry.centroid[k] - corners[0][k];
       }
-      pieces.push_back(piece);
+      double g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2],
+             g22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+      double r1 = r[0] * e1[0] + r[1] * e1[1] + r[2] * e1[2], r2 = r[0] * e2[0] + r[1] * e2[1] + r[2] * e2[2];
+      double det = g11 * g22 - g12 * g12;
+      double b1 = (g22 * r1 - g12 * r2) / det, b2 = (g11 * r2 - g12 * r1) / det, b0 = 1.0 - b1 - b2;
+      for (int k = 0; k < 3; k++)
+        piece.wall_velocity[k] = b0 * vertex_velocity[j][0][k] + b1 * vertex_velocity[j][1][k] +
+                                 b2 * vertex_velocity[j][2][k];
+    }
+    pieces.push_back(piece);
+  }
+}
+
+// The overlaps of the candidates, with the nodes of those that touch: on the CPU, or in one batch on the GPU.
+void FixWallPolyhedral::compute_overlaps()
+{
+  const size_t count = candidates.size();
+  double **x = atom->x, **quaternion = atom->quaternion;
+  int *shapetype = atom->shapetype;
+  overlaps.resize(count);
+  overlap_first_node.assign(count, -1);
+  overlap_num_nodes.assign(count, -1);
+  nodes.clear();
+  if (gpu_precision >= 0) {
+#ifdef POLY_HAVE_CUDA
+    char message[512];
+    poly_gpu_wall_piece *buffer = poly_gpu_wall_buffer((int)count);
+    if (!buffer) error->one(FLERR, "Fix wall/polyhedral: no pinned host memory for the GPU's wall pieces");
+    for (size_t c = 0; c < count; c++) {
+      int i = candidates[c].particle;
+      const poly_mesh_prism &prism = prisms[candidates[c].prism];
+      poly_gpu_wall_piece &piece = buffer[c];
+      piece.shape = shapetype[i] - 1;
+      for (int k = 0; k < 3; k++) piece.position[k] = x[i][k];
+      for (int k = 0; k < 4; k++) piece.quaternion[k] = quaternion[i][k];
+      poly_gpu_wall_piece_set_prism(&piece, &prism);
+    }
+    gpu_overlaps.resize(count);
+    const double *gpu_nodes = NULL;
+    if (poly_gpu_wall_overlaps(gpu_precision, (int)count, count ? &gpu_overlaps[0] : NULL, &gpu_nodes, message,
+                               sizeof message) != 0) {
+      char text[600];
+      snprintf(text, sizeof text, "Fix wall/polyhedral on the GPU: %s", message);
+      error->one(FLERR, text);
+    }
+    for (size_t c = 0; c < count; c++) {
+      overlaps[c] = gpu_overlaps[c].geometry;
+      if (!(overlaps[c].volume > 0.0) || gpu_overlaps[c].first_node < 0) continue;
+      int n = overlaps[c].num_nodes;
+      overlap_first_node[c] = (int)nodes.size() / 3;
+      overlap_num_nodes[c] = n;
+      const double *first = gpu_nodes + 3 * (size_t)gpu_overlaps[c].first_node;
+      nodes.insert(nodes.end(), first, first + 3 * (size_t)n);
+    }
+    return;
+#endif
+  }
+  for (size_t c = 0; c < count; c++) {
+    int i = candidates[c].particle;
+    const poly_mesh_prism &prism = prisms[candidates[c].prism];
+    poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
+    poly_pose particle_pose = {{x[i][0], x[i][1], x[i][2]},
+                               {quaternion[i][0], quaternion[i][1], quaternion[i][2], quaternion[i][3]}};
+    poly_overlap_d(&pair->shape_view(shapetype[i]), &particle_pose, &prism.view, &prism_pose, &workspace,
+                   &overlaps[c]);
+    if (!(overlaps[c].volume > 0.0) || workspace.num_points > workspace.capacity_points) continue;
+    int n = workspace.num_points;
+    overlap_first_node[c] = (int)nodes.size() / 3;
+    overlap_num_nodes[c] = n;
+    if (n > 0) {
+      nodes.resize(nodes.size() + 3 * (size_t)n);
+      poly_overlap_nodes_d(&workspace, &particle_pose, &nodes[3 * (size_t)overlap_first_node[c]], n);
     }
   }
 }

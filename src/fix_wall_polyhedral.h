@@ -23,6 +23,7 @@
 
 #include "fix.h"
 #include "poly_contact.h"
+#include "poly_gpu.h"
 #include "poly_mesh_shell.h"
 #include "poly_overlap.h"
 
@@ -54,6 +55,7 @@ class FixWallPolyhedral : public Fix {
   void apply_plane(bool advance_history);
   void apply_mesh(int m, bool advance_history);
   void collect_pieces(int m);
+  void compute_overlaps();
   void apply_contact(int i, int wall_type, double *spring, bool advance_history, double volume, double depth,
                      const double *normal, const double *centroid, const double *wall_velocity, double *force_on_particle);
 
@@ -67,6 +69,16 @@ class FixWallPolyhedral : public Fix {
   double shell_thickness;    // in use
   poly_overlap_workspace_d workspace;
   bool have_workspace;
+  // A (particle, prism) pair whose bounding spheres touch, before its overlap is known.
+  struct MeshCandidate {
+    int particle, triangle, prism;        // local atom, local triangle, index into `prisms`
+  };
+  std::vector<poly_mesh_prism> prisms;   // of the current mesh's triangles that have candidates
+  std::vector<MeshCandidate> candidates;
+  std::vector<poly_overlap_result> overlaps;         // per candidate
+  std::vector<int> overlap_first_node, overlap_num_nodes;  // per candidate, into `nodes`; < 0: not kept
+  std::vector<poly_gpu_wall_overlap> gpu_overlaps;
+  int gpu_precision;         // -1: overlaps on the CPU; else on the GPU of the /gpu pair style, in this precision
   std::vector<MeshPiece> pieces;
   std::vector<double> nodes;   // of all pieces, world frame relative to their particle
   std::vector<poly_overlap_result> particle_pieces;  // one particle's pieces at a time

@@ -56,6 +56,7 @@ class PairPolyhedralVolumetric : public Pair {
   const poly_shape_view_d &shape_view(int shapetype) const { return views_d[shapetype]; }
   bool tangential_history_on() const { return tangential_history; }
   bool damping_on() const { return damping; }
+  int narrow_precision() const { return precision; }  // poly_precision
 
   // Called by the contact-history fix before LIGGGHTS reads the history in the
   // neighbour list; a style that keeps history elsewhere (the GPU) puts it back.

@@ -36,14 +36,19 @@ PairPolyhedralVolumetricGPU::~PairPolyhedralVolumetricGPU()
   if (!device_ready) return;
   // Where the time went, as LAMMPS' GPU package reports it at the end.
   poly_gpu_timing t = poly_gpu_timings();
-  double local[5] = {t.set_pairs, t.upload, t.kernels, t.download, poly_gpu_bytes() / 1048576.0}, sum[5];
-  MPI_Reduce(local, sum, 5, MPI_DOUBLE, MPI_SUM, 0, world);
+  long wall_calls = 0;
+  double wall_seconds = poly_gpu_wall_seconds(&wall_calls);
+  double local[6] = {t.set_pairs, t.upload, t.kernels, t.download, poly_gpu_bytes() / 1048576.0, wall_seconds}, sum[6];
+  MPI_Reduce(local, sum, 6, MPI_DOUBLE, MPI_SUM, 0, world);
   if (comm->me == 0 && t.num_compute > 0) {
-    char text[400];
-    snprintf(text, sizeof text,
-             "Pair polyhedral/volumetric/gpu (summed over %d ranks): %ld steps, %ld pair uploads; seconds: "
-             "pair upload %.3f, pose upload %.3f, kernels %.3f, force download %.3f; device memory %.1f MiB\n",
-             comm->nprocs, t.num_compute, t.num_set_pairs, sum[0], sum[1], sum[2], sum[3], sum[4]);
+    char text[500];
+    int length = snprintf(text, sizeof text,
+                          "Pair polyhedral/volumetric/gpu (summed over %d ranks): %ld steps, %ld pair uploads; seconds: "
+                          "pair upload %.3f, pose upload %.3f, kernels %.3f, force download %.3f; device memory %.1f "
+                          "MiB\n", comm->nprocs, t.num_compute, t.num_set_pairs, sum[0], sum[1], sum[2], sum[3], sum[4]);
+    if (wall_calls > 0 && length > 0 && length < (int)sizeof text)
+      snprintf(text + length, sizeof text - length, "Fix wall/polyhedral meshes on the GPU (rank 0: %ld calls): "
+               "%.3f seconds summed over ranks, pieces up, overlaps and nodes down\n", wall_calls, sum[5]);
     if (screen) fputs(text, screen);
     if (logfile) fputs(text, logfile);
   }

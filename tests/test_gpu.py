@@ -14,6 +14,7 @@ import pytest
 
 import decks
 from conftest import MPI_ENV, ROOT
+from test_mesh_walls import drum_deck
 from test_pair_parallel import MATERIALS, particles, templates
 
 
@@ -38,9 +39,10 @@ def test_cuda_sources_compile_and_link(launcher):
         pytest.skip("skipped: built without CUDA (no nvcc)")
     library = ROOT / "build" / "lib" / "libpolyhedral.so"
     symbols = subprocess.run(["nm", "-D", "--defined-only", str(library)], capture_output=True, text=True).stdout
-    for name in ("poly_gpu_init", "poly_gpu_compute", "poly_gpu_clear"):
+    for name in ("poly_gpu_init", "poly_gpu_compute", "poly_gpu_clear", "poly_gpu_wall_overlaps"):
         assert name in symbols, name
     assert (ROOT / "build" / "tests" / "gpu_agreement").exists()
+    assert (ROOT / "build" / "tests" / "gpu_wall_agreement").exists()
 
 
 def test_gpu_code_paths_on_the_cpu(tmp_path):
@@ -205,3 +207,49 @@ def test_gpu_history_kept_on_device_matters(run_deck, tmp_path):
     worst = max(abs(x - y) / max(abs(x), 1e-12) for x, y in zip(a["KinEng"], b["KinEng"]))
     print(f"tangential history on vs off: largest relative kinetic energy difference {worst:.2e}")
     assert worst > 1e-3, worst
+
+
+@needs_gpu
+@pytest.mark.parametrize("precision", ["double", "single", "mixed"])
+def test_gpu_and_cpu_agree_on_mesh_wall_pieces(launcher, precision):
+    """fix wall/polyhedral's mesh narrow phase on the GPU (gpu/poly_gpu_wall.cu) against the host code:
+    2000 particles of each of 8 reference shapes in random poses on a mesh with a concave and a convex
+    crease; every (particle, prism) piece's V and centroid, and every particle's contact combined from
+    its pieces and their nodes (V, centroid, normal, depth), within 1e-10 in double and 1e-4 in single
+    and mixed (the driver exits non-zero above that; its header gives the scales)."""
+    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_wall_agreement"), str(ROOT / "examples" / "shapes"),
+                          "2000", precision], capture_output=True, text=True)
+    print(run.stdout)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.strip().endswith("OK")
+
+
+@needs_gpu
+def test_gpu_mesh_walls_match_cpu(run_deck, tmp_path):
+    """The rotating drum of tests/test_mesh_walls.py (12 cubes, 128 triangles, fix mesh/surface/stress)
+    with the /gpu pair style, whose mesh-wall overlaps then run on the GPU, against the CPU style, 12000
+    steps on one rank: the same wall contact count at every output, torque on the drum and kinetic energy
+    within 1e-6 relative, and on the GPU too the torque of fix mesh/surface/stress equals the one summed
+    from the particles' side."""
+    runs = {}
+    for name, pair in (("cpu", "pair_style polyhedral/volumetric\n"), ("gpu", "pair_style polyhedral/volumetric/gpu\n")):
+        (tmp_path / name).mkdir()
+        result = run_deck(drum_deck(tmp_path / name, pair=pair, processors="1 1 1"), workdir=tmp_path / name / "run")
+        assert result.returncode == 0, result.output[-3000:]
+        runs[name] = result.thermo("Step", "Atoms", "KinEng", *[f"f_drum[{k}]" for k in range(4, 8)],
+                                   *[f"f_dmesh[{k}]" for k in range(4, 7)])
+    cpu, gpu = runs["cpu"], runs["gpu"]
+    assert cpu["Step"] == gpu["Step"] and gpu["Atoms"][-1] == 12
+    assert cpu["f_drum[4]"] == gpu["f_drum[4]"], (cpu["f_drum[4]"], gpu["f_drum[4]"])
+    assert max(cpu["f_drum[4]"]) >= 4
+    worst = 0.0
+    for column in ["KinEng"] + [f"f_dmesh[{k}]" for k in range(4, 7)]:
+        scale = max(abs(x) for x in cpu[column])
+        worst = max(worst, max(abs(x - y) for x, y in zip(cpu[column], gpu[column])) / scale)
+    own = max(abs(gpu[f"f_drum[{k + 1}]"][n] - gpu[f"f_dmesh[{k}]"][n]) for k in range(4, 7)
+              for n in range(1, len(gpu["Step"])))
+    scale = max(abs(x) for k in range(4, 7) for x in gpu[f"f_dmesh[{k}]"])
+    print(f"drum, GPU walls vs CPU: largest relative difference of kinetic energy and drum torque {worst:.2e}; "
+          f"GPU: mesh/surface/stress torque vs the particles' side {own:.1e} of {scale:.2e} N m")
+    assert worst <= 1e-6, worst
+    assert own < 1e-9 * scale, (own, scale)

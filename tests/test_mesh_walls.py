@@ -127,30 +127,38 @@ def test_cube_stays_inside_a_shaken_closed_box(run_deck, tmp_path):
     assert np.abs(table["v_vx"]).max() > 0.5
 
 
-def test_drum_torque_from_mesh_stress_is_minus_the_torque_on_the_particles(run_deck, tmp_path):
-    """A closed drum (radius 50 mm, 40 mm long, 128 triangles) turning about y (fix move/mesh rotate,
-    period 0.5 s) with 12 cubes of 10 mm in two layers, on 2 ranks: the torque fix mesh/surface/stress reports
-    (f_dmesh[4..6], about the origin) equals the torque on the wall that fix wall/polyhedral
-    sums from the particles' side (f_drum[5..7]) at every step printed, and the drum lifts the charge
-    (torque about y of the sign of the rotation's resistance)."""
+def drum_deck(tmp_path, pair="pair_style polyhedral/volumetric\n", processors="2 1 1", steps=12000):
+    """12 cubes of 10 mm in a closed drum (radius 50 mm, 40 mm long, 128 triangles, fix mesh/surface/stress
+    dmesh, wall fix drum) turning about y with period 0.5 s; thermo every 500 steps: atoms, kinetic energy,
+    f_drum[4..7] and f_dmesh[4..6]."""
     meshes.write_stl(tmp_path / "drum.stl", meshes.drum(0.05, 0.04, 32))
     cubes = "".join(f"create_polyhedron cube {x} {y} {z} quat 0.9 0.3 -0.2 0.25\n"
                     for x in (-0.02, 0.0, 0.02) for y in (-0.008, 0.008) for z in (-0.03, -0.012))
-    deck = (decks.header(boundary="f f f", lo=-0.07, hi=0.07, ntypes=2, processors="2 1 1") +
+    deck = (decks.header(boundary="f f f", lo=-0.07, hi=0.07, ntypes=2, processors=processors) +
             "neighbor 0.002 bin\nneigh_modify delay 0\n"
             "fix m1 all property/global youngsModulus peratomtype 1e7 1e7\n"
             "fix m2 all property/global poissonsRatio peratomtype 0.25 0.25\n"
             "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
             "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n" +
             decks.template("cube", "cube.stl", scale=0.01, atom_type=1) +
-            "pair_style polyhedral/volumetric\npair_coeff * *\n"
+            pair + "pair_coeff * *\n"
             "fix dmesh all mesh/surface/stress file ../drum.stl type 2\n"
             "fix drum all wall/polyhedral mesh n_meshes 1 meshes dmesh\n"
             "fix spin all move/mesh mesh dmesh rotate origin 0 0 0 axis 0 1 0 period 0.5\n" + cubes +
             "fix integrate all nve/polyhedron\nfix gravity all gravity 9.81 vector 0 0 -1\n"
-            "thermo_style custom step atoms f_drum[4] f_drum[5] f_drum[6] f_drum[7] "
+            "thermo_style custom step atoms ke f_drum[4] f_drum[5] f_drum[6] f_drum[7] "
             "f_dmesh[4] f_dmesh[5] f_dmesh[6]\n"
-            "thermo_modify format float %.15g\nthermo 500\ntimestep 1e-5\nrun 12000\n")
+            "thermo_modify format float %.15g\nthermo 500\ntimestep 1e-5\n" + f"run {steps}\n")
+    return deck
+
+
+def test_drum_torque_from_mesh_stress_is_minus_the_torque_on_the_particles(run_deck, tmp_path):
+    """A closed drum (radius 50 mm, 40 mm long, 128 triangles) turning about y (fix move/mesh rotate,
+    period 0.5 s) with 12 cubes of 10 mm in two layers, on 2 ranks: the torque fix mesh/surface/stress reports
+    (f_dmesh[4..6], about the origin) equals the torque on the wall that fix wall/polyhedral
+    sums from the particles' side (f_drum[5..7]) at every step printed, and the drum lifts the charge
+    (torque about y of the sign of the rotation's resistance)."""
+    deck = drum_deck(tmp_path)
     result = run_deck(deck, nprocs=2, workdir=tmp_path / "run")
     assert result.returncode == 0, result.output[-3000:]
     table = result.thermo("Step", "Atoms", *[f"f_drum[{k}]" for k in range(4, 8)],
