@@ -20,15 +20,17 @@
 
 #include "fix_particletemplate_polyhedron.h"
 #include "pair_polyhedral_volumetric.h"
+#include "poly_cylinder.h"
 #include "poly_halfspace.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-// fix ID group wall/polyhedral [tangential history|off] [damping on|off] [thickness H]
-//     primitive type T xplane|yplane|zplane POS  |  mesh n_meshes K meshes MESH-ID ...
+// fix ID group wall/polyhedral [tangential history|off] [damping on|off] [thickness H] [sagitta S]
+//     primitive type T xplane|yplane|zplane POS  |  primitive type T zcylinder R CX CY  |  mesh n_meshes K meshes MESH-ID ...
 FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
-    : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), thickness(0.0), shell_thickness(0.0),
+    : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
+      sagitta(1e-6), thickness(0.0), shell_thickness(0.0),
       have_workspace(false), tangential(-1), damping(-1), history_id(NULL), history(NULL), pair(NULL),
       force_summed(false)
 {
@@ -54,18 +56,37 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
       thickness = force->numeric(FLERR, arg[iarg + 1]);
       if (!(thickness > 0.0)) error->all(FLERR, "Fix wall/polyhedral: thickness must be positive");
       iarg += 2;
+    } else if (strcmp(key, "sagitta") == 0 && iarg + 1 < narg) {
+      sagitta = force->numeric(FLERR, arg[iarg + 1]);
+      if (!(sagitta > 0.0 && sagitta < 1.0))
+        error->all(FLERR, "Fix wall/polyhedral: sagitta must be between 0 and 1 (a fraction of the bounding radius)");
+      iarg += 2;
     } else if (strcmp(key, "primitive") == 0) {
-      if (iarg + 4 >= narg || strcmp(arg[iarg + 1], "type") != 0)
-        error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T xplane|yplane|zplane POS'");
+      if (iarg + 3 >= narg || strcmp(arg[iarg + 1], "type") != 0)
+        error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T xplane|yplane|zplane POS' or "
+                          "'primitive type T zcylinder R CX CY'");
       wall_type = force->inumeric(FLERR, arg[iarg + 2]);
-      const char *plane = arg[iarg + 3];
-      axis = strcmp(plane, "xplane") == 0 ? 0 : strcmp(plane, "yplane") == 0 ? 1 : strcmp(plane, "zplane") == 0 ? 2 : -1;
+      const char *style = arg[iarg + 3];
+      if (strcmp(style, "zcylinder") == 0) {
+        if (iarg + 6 >= narg) error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T zcylinder R CX CY'");
+        cylinder = true;
+        cylinder_radius = force->numeric(FLERR, arg[iarg + 4]);
+        cylinder_axis[0] = force->numeric(FLERR, arg[iarg + 5]);
+        cylinder_axis[1] = force->numeric(FLERR, arg[iarg + 6]);
+        if (!(cylinder_radius > 0.0)) error->all(FLERR, "Fix wall/polyhedral: zcylinder radius R must be positive");
+        have_plane = true;
+        iarg += 7;
+        continue;
+      }
+      axis = strcmp(style, "xplane") == 0 ? 0 : strcmp(style, "yplane") == 0 ? 1 : strcmp(style, "zplane") == 0 ? 2 : -1;
       if (axis < 0) {
         char message[256];
         snprintf(message, sizeof message,
-                 "Fix wall/polyhedral: unknown primitive '%s' (xplane, yplane and zplane are available)", plane);
+                 "Fix wall/polyhedral: unknown primitive '%s' (xplane, yplane, zplane and zcylinder are available)",
+                 style);
         error->all(FLERR, message);
       }
+      if (iarg + 4 >= narg) error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T xplane|yplane|zplane POS'");
       position = force->numeric(FLERR, arg[iarg + 4]);
       have_plane = true;
       iarg += 5;
@@ -74,7 +95,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     } else {
       char message[256];
       snprintf(message, sizeof message,
-               "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, thickness, primitive, mesh)", key);
+               "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, thickness, sagitta, primitive, mesh)", key);
       error->all(FLERR, message);
     }
   }
@@ -299,7 +320,8 @@ void FixWallPolyhedral::setup(int)
 {
   force_summed = false;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
-  if (meshes.empty()) apply_plane(false);
+  if (cylinder) apply_cylinder(false);
+  else if (meshes.empty()) apply_plane(false);
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, false);
 }
 
@@ -307,7 +329,8 @@ void FixWallPolyhedral::post_force(int)
 {
   force_summed = false;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
-  if (meshes.empty()) apply_plane(true);
+  if (cylinder) apply_cylinder(true);
+  else if (meshes.empty()) apply_plane(true);
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, true);
 }
 
@@ -365,6 +388,41 @@ void FixWallPolyhedral::apply_plane(bool advance_history)
       double rotation[9];
       poly_quat_to_matrix(quaternion[i], rotation);
       poly_halfspace_overlap(&pair->shape_view(shapetype[i]), rotation, x[i], normal, side * position, &geometry);
+    }
+    if (!(geometry.volume > 1e-12 * rmass[i] / density[i]) || !(geometry.depth > 0.0)) {
+      for (int d = 0; d < POLY_HISTORY_SIZE; d++) spring[d] = 0.0;
+      continue;
+    }
+    double force[3];
+    apply_contact(i, wall_type, spring, advance_history, geometry.volume, geometry.depth, geometry.normal,
+                  geometry.centroid, zero, force);
+  }
+}
+
+// The zcylinder primitive: each particle against the solid on the far side of the cylinder from its centre
+// (src/poly_cylinder.h), the cylinder replaced by a polygon whose sagitta is `sagitta` of the particle's
+// bounding radius (its facet count cached per shape).
+void FixWallPolyhedral::apply_cylinder(bool advance_history)
+{
+  double **x = atom->x, **quaternion = atom->quaternion, **springs = history->array_atom;
+  double *rmass = atom->rmass, *density = atom->density, *radius = atom->radius;
+  int *mask = atom->mask, *shapetype = atom->shapetype;
+  const double zero[3] = {0.0, 0.0, 0.0};
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    double *spring = springs[i];
+    double dx = x[i][0] - cylinder_axis[0], dy = x[i][1] - cylinder_axis[1];
+    double from_axis = sqrt(dx * dx + dy * dy);
+    poly_overlap_result geometry;
+    geometry.volume = 0.0;
+    if (fabs(from_axis - cylinder_radius) < radius[i]) {
+      const poly_shape_view_d &shape = pair->shape_view(shapetype[i]);
+      if (shapetype[i] >= (int)cylinder_facets.size()) cylinder_facets.resize(shapetype[i] + 1, 0);
+      int &facets = cylinder_facets[shapetype[i]];
+      if (facets == 0) facets = poly_cylinder_facets(cylinder_radius, sagitta * shape.bounding_radius);
+      double rotation[9];
+      poly_quat_to_matrix(quaternion[i], rotation);
+      poly_cylinder_overlap(&shape, rotation, x[i], cylinder_axis, cylinder_radius, facets, &geometry);
     }
     if (!(geometry.volume > 1e-12 * rmass[i] / density[i]) || !(geometry.depth > 0.0)) {
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) spring[d] = 0.0;

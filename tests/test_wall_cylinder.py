@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import decks
+from test_walls import DENSITY, EDGE, G, POISSON, YOUNGS, scene
 import overlap_reference as ref
 from test_overlap_geometry import SHAPES, SHIM_SOURCE, SOURCES, Library, random_quaternion
 
@@ -108,7 +109,7 @@ def vertical_chords(p, x, y):
 
 
 def chord_reference(world, triangles, radius, drum, samples=800):
-    """Volume, centroid and contact normal of (shape n wall solid) for the exact cylinder about the z axis.
+    """Volume, centroid, contact normal and cap area of (shape n wall solid) for the exact cylinder about the z axis.
     V and the first moment integrate the particle's vertical chords over the wall's part of the xy plane
     (polar midpoint grid, samples x samples, over the radii and angles of the triangles that reach the
     wall); the normal is the area vector of the cap, the cylinder surface inside the particle, from the
@@ -148,7 +149,8 @@ def chord_reference(world, triangles, radius, drum, samples=800):
     fine = a_low + (np.arange(20 * samples) + 0.5) * (a_high - a_low) / (20 * samples)
     on_circle, _ = vertical_chords(p, radius * np.cos(fine), radius * np.sin(fine))
     cap = np.array([(on_circle * np.cos(fine)).sum(), (on_circle * np.sin(fine)).sum(), 0.0])
-    return volume, centroid, cap / np.linalg.norm(cap) * (1.0 if drum else -1.0)
+    cap_area = on_circle.sum() * radius * (a_high - a_low) / (20 * samples)
+    return volume, centroid, cap / np.linalg.norm(cap) * (1.0 if drum else -1.0), cap_area
 
 
 def pose_near_the_shell(shape, rng, radius, drum, depth_fraction):
@@ -194,7 +196,7 @@ def test_overlap_matches_the_exact_cylinder(cylinder_lib, particles, name, drum)
     for depth_fraction in (0.005, 0.03, 0.2, 0.02, 0.1):
         pose = pose_near_the_shell(shape, rng, radius, drum, depth_fraction)
         got = cylinder(cylinder_lib, shape, pose, radius, facets)
-        volume, centroid, normal = chord_reference(shape.world(pose), shape.triangles, radius, drum)
+        volume, centroid, normal, _ = chord_reference(shape.world(pose), shape.triangles, radius, drum)
         worst[0] = max(worst[0], abs(got["volume"] / volume - 1))
         worst[1] = max(worst[1], np.abs(got["centroid"] - centroid).max() / size)
         worst[2] = max(worst[2], np.abs(got["normal"] - normal).max())
@@ -202,3 +204,110 @@ def test_overlap_matches_the_exact_cylinder(cylinder_lib, particles, name, drum)
     print(f"\n{name} {'inside' if drum else 'outside'} ({facets} facets): worst V {worst[0]:.1e}, "
           f"centroid {worst[1]:.1e} L, normal {worst[2]:.1e}")
     assert worst[0] < 1e-4 and worst[1] < 1e-5 and worst[2] < 1e-4, worst
+
+
+@pytest.mark.parametrize("name,drum", [("cube", True), ("rock_40", False)], ids=["cube-inside", "rock-outside"])
+def test_error_follows_the_sagitta_bound(cylinder_lib, particles, name, drum):
+    """Sagitta tolerances 1e-2 .. 1e-6 of the bounding radius: the volume error against the exact cylinder
+    stays below the bound s * A_cap (s the polygon's largest radial departure from the circle, A_cap the
+    area of the cylinder surface inside the particle), and falls with s (the polygon is fixed in space, so
+    the error does not average out for one pose). Reference: the chord quadrature."""
+    shape = particles[name]
+    radius = 0.1 if drum else 0.05
+    rng = np.random.default_rng(11)
+    for depth_fraction in (0.01, 0.1):
+        pose = pose_near_the_shell(shape, rng, radius, drum, depth_fraction)
+        volume, _, _, cap_area = chord_reference(shape.world(pose), shape.triangles, radius, drum, samples=1200)
+        rows = []
+        for tolerance in (1e-2, 1e-3, 1e-4, 1e-5, 1e-6):
+            facets = cylinder_lib.lib.shim_cylinder_facets(radius, tolerance * shape.radius)
+            sagitta = cylinder_lib.lib.shim_cylinder_sagitta(radius, facets)
+            assert sagitta <= tolerance * shape.radius
+            got = cylinder(cylinder_lib, shape, pose, radius, facets)
+            rows.append((tolerance, facets, abs(got["volume"] - volume), sagitta * cap_area))
+        print(f"\n{name} {depth_fraction} deep: " + ", ".join(f"tol {t:.0e} ({n} facets): |dV|/V {e / volume:.1e} "
+                                                            f"(bound {b / volume:.1e})" for t, n, e, b in rows))
+        for tolerance, facets, error, bound in rows:
+            assert error <= bound + 2e-5 * volume, (tolerance, error, bound)   # 2e-5: the reference's own error
+        assert rows[-1][2] < 0.05 * rows[0][2]
+
+
+# ---------------------------------------------------------------------------------------------
+# The wall as a user runs it (decks through liggghts-poly). A drum of radius 0.1 m about the z axis,
+# gravity along -y: the bottom of the drum is at y = -0.1.
+
+DRUM = 0.1
+WALL = f"fix floor all wall/polyhedral primitive type 2 zcylinder {DRUM} 0.0 0.0\n"
+
+
+def drum_scene(pose, wall=WALL, gravity="0 -1 0", steps=30000, extra=""):
+    """The cube deck of tests/test_walls.py (materials, thermo of f_floor) in the drum, with the cube's y."""
+    deck = scene(wall, pose, extra=extra, steps=steps, gravity=gravity)
+    return deck.replace("variable x equal x[1]\n", "variable x equal x[1]\nvariable y equal y[1]\n").replace(
+        "thermo_style custom step v_x v_z", "thermo_style custom step v_x v_y v_z")
+
+
+def resting_height():
+    """y of the cube's centre when its two lower edges (along z) touch the drum."""
+    return -(math.sqrt(DRUM ** 2 - (EDGE / 2) ** 2) - EDGE / 2)
+
+
+def test_cube_rests_inside_the_drum(run_deck):
+    """The cube dropped from 50 um onto the bottom of the drum rests on its two lower edges: the drum
+    carries its weight (force on the wall -mg along y, within 0.5 %, nothing along x and z beyond 1e-6 mg)
+    and the contact, one per particle, stays."""
+    result = run_deck(drum_scene(f"0 {resting_height() + 5e-5} 0.01"))
+    assert result.returncode == 0, result.output[-3000:]
+    table = result.thermo("Step", "v_y", "f_floor[1]", "f_floor[2]", "f_floor[3]", "f_floor[4]")
+    weight = DENSITY * EDGE ** 3 * G
+    settled = np.array(table["Step"]) >= 10000
+    force = [np.array(table[f"f_floor[{k}]"])[settled] for k in (1, 2, 3)]
+    sink = resting_height() - np.array(table["v_y"])[settled]
+    print(f"\ncube in the drum: wall force / weight = ({force[0].mean() / weight:.1e}, {force[1].mean() / weight:.6f}, "
+          f"{force[2].mean() / weight:.1e}), edges sunk {sink.mean():.3e} m")
+    assert all(c == 1 for c in np.array(table["f_floor[4]"])[settled])
+    assert abs(-force[1].mean() / weight - 1) < 0.005, force[1].mean()
+    assert np.abs(force[0]).max() < 1e-6 * weight and np.abs(force[2]).max() < 1e-6 * weight
+    assert 0 < sink.mean() < 1e-4
+
+
+def test_icosphere_impact_inside_the_drum_matches_liggghts_hertz_sphere(run_deck, tmp_path):
+    """As check_wall_impact of tests/test_walls.py, on the inside of the drum: an icosphere of 1280 triangles
+    (volume-equivalent diameter 20 mm) hits the bottom of the drum at 1 m/s, and LIGGGHTS' sphere of the same
+    diameter and density hits `fix wall/gran model hertz tangential history primitive type 2 zcylinder`.
+    Contact duration within 2 % and restitution within 1.5 %, the plane test's tolerances."""
+    diameter, dt = 0.02, 2e-6
+    start = -(DRUM - diameter / 2 - 0.0005)
+    materials = (f"fix m1 all property/global youngsModulus peratomtype {YOUNGS} {YOUNGS}\n"
+                 f"fix m2 all property/global poissonsRatio peratomtype {POISSON} {POISSON}\n"
+                 "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.8 0.8 0.8 0.8\n"
+                 "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n")
+    variables = "variable y equal y[1]\nvariable vy equal vy[1]\n"
+    common = f"thermo_modify format float %.15g\nthermo 1\ntimestep {dt}\nrun 3000\n"
+    sphere = run_deck("atom_style granular\natom_modify map array sort 0 0\nboundary f f f\nnewton off\n"
+                      "communicate single vel yes\nunits si\nregion box block -0.15 0.15 -0.15 0.15 -0.15 0.15\n"
+                      "create_box 2 box\nneighbor 0.002 bin\nneigh_modify delay 0\n" + materials +
+                      "pair_style gran model hertz tangential history\npair_coeff * *\n"
+                      f"fix wall all wall/gran model hertz tangential history primitive type 2 zcylinder {DRUM} 0 0\n"
+                      f"create_atoms 1 single 0 {start} 0\nset atom 1 diameter {diameter} density {DENSITY}\n"
+                      "velocity all set 0 -1 0\nfix integrate all nve/sphere\n" +
+                      variables + "thermo_style custom step v_y v_vy\n" + common, workdir=tmp_path / "sphere")
+    assert sphere.returncode == 0, sphere.output[-3000:]
+    shape = run_deck(decks.header(boundary="f f f", lo=-0.15, hi=0.15, ntypes=2) +
+                     "neighbor 0.002 bin\nneigh_modify delay 0\n" + materials +
+                     decks.template("ball", "icosphere_1280.off", scale=diameter) +
+                     "pair_style polyhedral/volumetric\npair_coeff * *\n" + WALL +
+                     f"create_polyhedron ball 0 {start} 0 quat 0.9 0.3 -0.2 0.25 vel 0 -1 0\n"
+                     "fix integrate all nve/polyhedron\n" +
+                     variables + "thermo_style custom step v_y v_vy f_floor[4]\n" + common, workdir=tmp_path / "shape")
+    assert shape.returncode == 0, shape.output[-3000:]
+    a = sphere.thermo("Step", "v_y", "v_vy")
+    b = shape.thermo("Step", "v_y", "v_vy", "f_floor[4]")
+    sphere_steps = sum(1 for y in a["v_y"][1:] if y < -(DRUM - diameter / 2))
+    shape_steps = sum(1 for c in b["f_floor[4]"][1:] if c > 0)
+    shape_e, sphere_e = b["v_vy"][-1] / -b["v_vy"][0], a["v_vy"][-1] / -a["v_vy"][0]
+    print(f"\ndrum impact: contact {shape_steps} steps (icosphere) vs {sphere_steps} (LIGGGHTS sphere), "
+          f"restitution {shape_e:.4f} vs {sphere_e:.4f}")
+    assert sphere_steps > 300 and a["v_y"][-1] > -(DRUM - diameter / 2) and b["f_floor[4]"][-1] == 0
+    assert abs(shape_steps / sphere_steps - 1) < 0.02, (shape_steps, sphere_steps)
+    assert abs(shape_e / sphere_e - 1) < 0.015, (shape_e, sphere_e)
