@@ -320,8 +320,7 @@ void FixWallPolyhedral::setup(int)
 {
   force_summed = false;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
-  if (cylinder) apply_cylinder(false);
-  else if (meshes.empty()) apply_plane(false);
+  if (meshes.empty()) apply_primitive(false);
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, false);
 }
 
@@ -329,8 +328,7 @@ void FixWallPolyhedral::post_force(int)
 {
   force_summed = false;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
-  if (cylinder) apply_cylinder(true);
-  else if (meshes.empty()) apply_plane(true);
+  if (meshes.empty()) apply_primitive(true);
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, true);
 }
 
@@ -369,61 +367,43 @@ void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, b
   for (int k = 0; k < 3; k++) wall_force[4 + k] -= moment[k] + out.torque_i[k];
 }
 
-void FixWallPolyhedral::apply_plane(bool advance_history)
+// Particle i's overlap with the primitive's solid, which is on the far side of the plane or the cylinder
+// from the particle's centre. The cylinder (src/poly_cylinder.h) is replaced by a polygon whose sagitta is
+// `sagitta` of the particle's bounding radius, its facet count cached per shape.
+void FixWallPolyhedral::primitive_overlap(int i, poly_overlap_result *geometry)
 {
-  double **x = atom->x, **quaternion = atom->quaternion, **springs = history->array_atom;
-  double *rmass = atom->rmass, *density = atom->density, *radius = atom->radius;
-  int *mask = atom->mask, *shapetype = atom->shapetype;
-  const double zero[3] = {0.0, 0.0, 0.0};
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    double *spring = springs[i];
-    // The wall solid is on the far side of the plane from the particle's centre.
-    double side = x[i][axis] >= position ? 1.0 : -1.0;
-    poly_overlap_result geometry;
-    geometry.volume = 0.0;
-    if (fabs(x[i][axis] - position) < radius[i]) {
-      double normal[3] = {0.0, 0.0, 0.0};
-      normal[axis] = side;
-      double rotation[9];
-      poly_quat_to_matrix(quaternion[i], rotation);
-      poly_halfspace_overlap(&pair->shape_view(shapetype[i]), rotation, x[i], normal, side * position, &geometry);
-    }
-    if (!(geometry.volume > 1e-12 * rmass[i] / density[i]) || !(geometry.depth > 0.0)) {
-      for (int d = 0; d < POLY_HISTORY_SIZE; d++) spring[d] = 0.0;
-      continue;
-    }
-    double force[3];
-    apply_contact(i, wall_type, spring, advance_history, geometry.volume, geometry.depth, geometry.normal,
-                  geometry.centroid, zero, force);
+  double *x = atom->x[i], radius = atom->radius[i];
+  int shapetype = atom->shapetype[i];
+  geometry->volume = 0.0;
+  double rotation[9];
+  if (cylinder) {
+    double dx = x[0] - cylinder_axis[0], dy = x[1] - cylinder_axis[1];
+    if (!(fabs(sqrt(dx * dx + dy * dy) - cylinder_radius) < radius)) return;
+    const poly_shape_view_d &shape = pair->shape_view(shapetype);
+    if (shapetype >= (int)cylinder_facets.size()) cylinder_facets.resize(shapetype + 1, 0);
+    int &facets = cylinder_facets[shapetype];
+    if (facets == 0) facets = poly_cylinder_facets(cylinder_radius, sagitta * shape.bounding_radius);
+    poly_quat_to_matrix(atom->quaternion[i], rotation);
+    poly_cylinder_overlap(&shape, rotation, x, cylinder_axis, cylinder_radius, facets, geometry);
+    return;
   }
+  if (!(fabs(x[axis] - position) < radius)) return;
+  double side = x[axis] >= position ? 1.0 : -1.0;
+  double normal[3] = {0.0, 0.0, 0.0};
+  normal[axis] = side;
+  poly_quat_to_matrix(atom->quaternion[i], rotation);
+  poly_halfspace_overlap(&pair->shape_view(shapetype), rotation, x, normal, side * position, geometry);
 }
 
-// The zcylinder primitive: each particle against the solid on the far side of the cylinder from its centre
-// (src/poly_cylinder.h), the cylinder replaced by a polygon whose sagitta is `sagitta` of the particle's
-// bounding radius (its facet count cached per shape).
-void FixWallPolyhedral::apply_cylinder(bool advance_history)
+void FixWallPolyhedral::apply_primitive(bool advance_history)
 {
-  double **x = atom->x, **quaternion = atom->quaternion, **springs = history->array_atom;
-  double *rmass = atom->rmass, *density = atom->density, *radius = atom->radius;
-  int *mask = atom->mask, *shapetype = atom->shapetype;
+  double **springs = history->array_atom, *rmass = atom->rmass, *density = atom->density;
   const double zero[3] = {0.0, 0.0, 0.0};
   for (int i = 0; i < atom->nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
+    if (!(atom->mask[i] & groupbit)) continue;
     double *spring = springs[i];
-    double dx = x[i][0] - cylinder_axis[0], dy = x[i][1] - cylinder_axis[1];
-    double from_axis = sqrt(dx * dx + dy * dy);
     poly_overlap_result geometry;
-    geometry.volume = 0.0;
-    if (fabs(from_axis - cylinder_radius) < radius[i]) {
-      const poly_shape_view_d &shape = pair->shape_view(shapetype[i]);
-      if (shapetype[i] >= (int)cylinder_facets.size()) cylinder_facets.resize(shapetype[i] + 1, 0);
-      int &facets = cylinder_facets[shapetype[i]];
-      if (facets == 0) facets = poly_cylinder_facets(cylinder_radius, sagitta * shape.bounding_radius);
-      double rotation[9];
-      poly_quat_to_matrix(quaternion[i], rotation);
-      poly_cylinder_overlap(&shape, rotation, x[i], cylinder_axis, cylinder_radius, facets, &geometry);
-    }
+    primitive_overlap(i, &geometry);
     if (!(geometry.volume > 1e-12 * rmass[i] / density[i]) || !(geometry.depth > 0.0)) {
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) spring[d] = 0.0;
       continue;

@@ -52,8 +52,8 @@ class FixWallPolyhedral : public Fix {
  private:
   int parse_mesh(int iarg, int narg, char **arg);
   void build_shells();
-  void apply_plane(bool advance_history);
-  void apply_cylinder(bool advance_history);
+  void apply_primitive(bool advance_history);
+  void primitive_overlap(int i, poly_overlap_result *geometry);
   void apply_mesh(int m, bool advance_history);
   void collect_pieces(int m);
   void apply_contact(int i, int wall_type, double *spring, bool advance_history, double volume, double depth,
