@@ -27,6 +27,8 @@
 #ifndef POLY_CYLINDER_H
 #define POLY_CYLINDER_H
 
+#include <limits.h>
+
 #include "poly_overlap.h"
 
 #define POLY_CYLINDER_MIN_FACETS 8
@@ -103,6 +105,186 @@ POLY_INLINE double poly_cylinder_axis_distance(const double (*p)[3])
   return best;
 }
 
+/* Running sums over the pieces of the particle's surface inside the wall solid (relative coordinates). */
+typedef struct poly_cylinder_sums {
+  double volume, moment[3], area, area_vector[3];
+} poly_cylinder_sums;
+
+/* Adds a planar polygon of the particle's surface (in its own order) to the sums. */
+POLY_INLINE void poly_cylinder_add_polygon(const double (*polygon)[3], int corners, poly_cylinder_sums *sums)
+{
+  for (int m = 1; m + 1 < corners; m++) {
+    const double *a = polygon[0], *b = polygon[m], *c = polygon[m + 1];
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double projected = 0.5 * cross[2];   /* n_z dA over the piece */
+    double sum_z = a[2] + b[2] + c[2];
+    sums->volume += projected * sum_z / 3.0;
+    for (int k = 0; k < 2; k++)
+      sums->moment[k] += projected * (a[k] * a[2] + b[k] * b[2] + c[k] * c[2] + (a[k] + b[k] + c[k]) * sum_z) / 12.0;
+    sums->moment[2] += projected * (a[2] * a[2] + b[2] * b[2] + c[2] * c[2] + sum_z * sum_z) / 24.0;
+    for (int k = 0; k < 3; k++) sums->area_vector[k] += 0.5 * cross[k];
+    sums->area += 0.5 * sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+  }
+}
+
+/* Triangle p's piece in one sector of the polygon's solid (side +1: beyond the facet, the drum; -1: before
+ * it, the pillar), added to the sums. The sector lies left of the ray `start` (unit direction, inclusive)
+ * and right of the ray `end` (the next sector's start, so neighbours meet exactly); `middle` is the
+ * facet's unit normal, h its distance from the axis. */
+POLY_INLINE void poly_cylinder_sector_piece(const double (*p)[3], const double start[2], const double end[2],
+                                            const double middle[2], double h, double side, poly_cylinder_sums *sums)
+{
+  double polygon_a[10][3], polygon_b[10][3];
+  int corners = poly_cylinder_clip(p, 3, -start[1], start[0], 0.0, 1, polygon_a);
+  if (corners < 3) return;
+  corners = poly_cylinder_clip((const double (*)[3])polygon_a, corners, end[1], -end[0], 0.0, 0, polygon_b);
+  if (corners < 3) return;
+  corners = poly_cylinder_clip((const double (*)[3])polygon_b, corners, side * middle[0], side * middle[1], -side * h, 0,
+                               polygon_a);
+  poly_cylinder_add_polygon((const double (*)[3])polygon_a, corners, sums);
+}
+
+/* Triangle p's pieces in sectors first..last (any integers; taken modulo the facet count). */
+POLY_INLINE void poly_cylinder_sector_pieces(const double (*p)[3], int first, int last, int facets, double h,
+                                             double side, poly_cylinder_sums *sums)
+{
+  const double step = 2.0 * 3.14159265358979323846 / facets, to_middle = 0.5 / cos(0.5 * step);
+  int sector = ((first % facets) + facets) % facets;
+  double start[2] = {cos(sector * step), sin(sector * step)}, end[2], middle[2];
+  for (int s = first; s <= last; s++) {
+    int next = (sector + 1) % facets;
+    end[0] = cos(next * step);
+    end[1] = sin(next * step);
+    middle[0] = (start[0] + end[0]) * to_middle;
+    middle[1] = (start[1] + end[1]) * to_middle;
+    poly_cylinder_sector_piece(p, start, end, middle, h, side, sums);
+    start[0] = end[0];
+    start[1] = end[1];
+    sector = next;
+  }
+}
+
+/* The angular ranges (radians, unwrapped about vertex 0's angle) of the parts of the projection of triangle
+ * p beyond the circle of radius `limit` (beyond = 1: r > limit, else r < limit), which must not surround
+ * the axis. The angle is monotone along segments and arcs, so a part's range is that of its corners:
+ * its vertices and the crossings of the triangle's edges with the circle, taken in runs along the
+ * triangle's boundary (one run per part of the triangle outside a disk; inside one, the part is convex and
+ * the runs are merged into one range). Returns the number of ranges (0..3). */
+POLY_INLINE int poly_cylinder_triangle_ranges(const double (*p)[3], double limit, int beyond, double ranges[3][2])
+{
+  double point[9][2];
+  int count = 0;
+  for (int c = 0; c < 3; c++) {
+    const double *a = p[c], *b = p[(c + 1) % 3];
+    point[count][0] = a[0];
+    point[count][1] = a[1];
+    count++;
+    double ex = b[0] - a[0], ey = b[1] - a[1];
+    double qa = ex * ex + ey * ey, qb = 2.0 * (a[0] * ex + a[1] * ey), qc = a[0] * a[0] + a[1] * a[1] - limit * limit;
+    double disc = qb * qb - 4.0 * qa * qc;
+    if (!(qa > 0.0) || !(disc > 0.0)) continue;
+    double root = sqrt(disc), t1 = (-qb - root) / (2.0 * qa), t2 = (-qb + root) / (2.0 * qa);
+    for (int k = 0; k < 2; k++) {
+      double t = k == 0 ? t1 : t2;
+      if (t > 0.0 && t < 1.0) {
+        point[count][0] = a[0] + t * ex;
+        point[count][1] = a[1] + t * ey;
+        count++;
+      }
+    }
+  }
+  const double two_pi = 2.0 * 3.14159265358979323846, angle0 = atan2(p[0][1], p[0][0]);
+  /* Each piece of the boundary between consecutive points is wholly on one side: test its midpoint. */
+  int wall[9], first_off = -1;
+  for (int i = 0; i < count; i++) {
+    const double *a = point[i], *b = point[(i + 1) % count];
+    double mx = 0.5 * (a[0] + b[0]), my = 0.5 * (a[1] + b[1]), r2 = mx * mx + my * my;
+    wall[i] = beyond ? r2 > limit * limit : r2 < limit * limit;
+    if (!wall[i] && first_off < 0) first_off = i;
+  }
+  int runs = 0;
+  if (first_off < 0) {   /* the whole boundary on the wall side: one part, all the points */
+    ranges[0][0] = ranges[0][1] = angle0;
+    for (int i = 1; i < count; i++) {
+      double angle = angle0 + remainder(atan2(point[i][1], point[i][0]) - angle0, two_pi);
+      ranges[0][0] = angle < ranges[0][0] ? angle : ranges[0][0];
+      ranges[0][1] = angle > ranges[0][1] ? angle : ranges[0][1];
+    }
+    return 1;
+  }
+  /* From just after an off piece once around: piece i runs from point i to point i + 1. */
+  int open = 0;
+  for (int n = 1; n <= count; n++) {
+    int i = (first_off + n) % count;
+    if (!wall[i]) {
+      open = 0;
+      continue;
+    }
+    if (!open) {
+      ranges[runs][0] = ranges[runs][1] = angle0 + remainder(atan2(point[i][1], point[i][0]) - angle0, two_pi);
+      runs++;
+      open = 1;
+    }
+    const double *b = point[(i + 1) % count];
+    double angle = angle0 + remainder(atan2(b[1], b[0]) - angle0, two_pi);
+    double *range = ranges[runs - 1];
+    range[0] = angle < range[0] ? angle : range[0];
+    range[1] = angle > range[1] ? angle : range[1];
+  }
+  if (!beyond && runs > 1) {
+    for (int r = 1; r < runs; r++) {
+      ranges[0][0] = ranges[r][0] < ranges[0][0] ? ranges[r][0] : ranges[0][0];
+      ranges[0][1] = ranges[r][1] > ranges[0][1] ? ranges[r][1] : ranges[0][1];
+    }
+    runs = 1;
+  }
+  return runs;
+}
+
+/* Sorted, merged intervals of sector numbers (any integers, modulo the facet count later) covering the
+ * angular ranges, with one spare sector each side for rounding at sector borders. Returns their count. */
+POLY_INLINE int poly_cylinder_sector_intervals(const double ranges[3][2], int count, double step, int intervals[3][2])
+{
+  for (int r = 0; r < count; r++) {
+    intervals[r][0] = (int)floor(ranges[r][0] / step) - 1;
+    intervals[r][1] = (int)floor(ranges[r][1] / step) + 1;
+  }
+  for (int r = 0; r < count; r++)
+    for (int q = r + 1; q < count; q++)
+      if (intervals[q][0] < intervals[r][0]) {
+        int first = intervals[q][0], last = intervals[q][1];
+        intervals[q][0] = intervals[r][0], intervals[q][1] = intervals[r][1];
+        intervals[r][0] = first, intervals[r][1] = last;
+      }
+  int merged = 0;
+  for (int r = 0; r < count; r++) {
+    if (merged > 0 && intervals[r][0] <= intervals[merged - 1][1] + 1) {
+      if (intervals[r][1] > intervals[merged - 1][1]) intervals[merged - 1][1] = intervals[r][1];
+    } else {
+      intervals[merged][0] = intervals[r][0];
+      intervals[merged][1] = intervals[r][1];
+      merged++;
+    }
+  }
+  return merged;
+}
+
+/* Triangle p's piece in sectors first..last (fewer than half the facets), where it is wholly in the solid:
+ * clipped to the block's two rays only. */
+POLY_INLINE void poly_cylinder_block_piece(const double (*p)[3], int first, int last, int facets,
+                                           poly_cylinder_sums *sums)
+{
+  const double step = 2.0 * 3.14159265358979323846 / facets;
+  int start = ((first % facets) + facets) % facets, end = (((last + 1) % facets) + facets) % facets;
+  double polygon_a[10][3], polygon_b[10][3];
+  int corners = poly_cylinder_clip(p, 3, -sin(start * step), cos(start * step), 0.0, 1, polygon_a);
+  if (corners < 3) return;
+  corners = poly_cylinder_clip((const double (*)[3])polygon_a, corners, sin(end * step), -cos(end * step), 0.0, 0,
+                               polygon_b);
+  poly_cylinder_add_polygon((const double (*)[3])polygon_b, corners, sums);
+}
+
 /* shape: double-precision view (body frame). rotation: body to world (row major), position: centre of mass.
  * axis: (CX, CY); facets: of the polygon standing in for the circle (poly_cylinder_facets). On return result
  * has volume, centroid, normal (from the particle into the wall, horizontal), depth, area and projected_area
@@ -128,7 +310,7 @@ POLY_INLINE void poly_cylinder_overlap(const poly_shape_view_d *shape, const dou
   const double step = two_pi / facets, h = poly_cylinder_facet_distance(radius, facets);
   const double corner_radius = h / cos(0.5 * step), side = drum ? 1.0 : -1.0;
 
-  double volume = 0.0, moment[3] = {0.0, 0.0, 0.0}, area = 0.0, area_vector[3] = {0.0, 0.0, 0.0};
+  poly_cylinder_sums sums = {0.0, {0.0, 0.0, 0.0}, 0.0, {0.0, 0.0, 0.0}};
   double deepest = 0.0, nearest = -1.0;
   for (int t = 0; t < shape->num_triangles; t++) {
     const int *tri = shape->triangles + 3 * t;
@@ -139,55 +321,50 @@ POLY_INLINE void poly_cylinder_overlap(const poly_shape_view_d *shape, const dou
       for (int k = 0; k < 3; k++) p[c][k] = world[k] + offset[k];
       r2[c] = p[c][0] * p[c][0] + p[c][1] * p[c][1];
     }
+    const double (*corners)[3] = (const double (*)[3])p;
     /* Triangles wholly off the solid of the polygon: inside its inscribed circle (the drum, convex), or
      * farther from the axis than its corners (the pillar). */
-    if (drum) {
-      if (r2[0] < h * h && r2[1] < h * h && r2[2] < h * h) continue;
-    } else {
-      double distance = poly_cylinder_axis_distance((const double (*)[3])p);
+    if (drum && r2[0] < h * h && r2[1] < h * h && r2[2] < h * h) continue;
+    double distance = poly_cylinder_axis_distance(corners);
+    if (!drum) {
       if (nearest < 0.0 || distance < nearest) nearest = distance;
       if (distance >= corner_radius) continue;
     }
-    /* The sectors the triangle's projection spans; all of them if it surrounds or touches the axis. */
-    int first = 0, last = facets - 1;
-    if (poly_cylinder_axis_distance((const double (*)[3])p) > 0.0) {
-      double angle0 = atan2(p[0][1], p[0][0]), low = angle0, high = angle0;
-      for (int c = 1; c < 3; c++) {
-        double angle = angle0 + remainder(atan2(p[c][1], p[c][0]) - angle0, two_pi);
-        low = angle < low ? angle : low;
-        high = angle > high ? angle : high;
-      }
-      first = (int)floor(low / step) - 1;    /* one spare sector each side for rounding at sector borders */
-      last = (int)floor(high / step) + 1;
+    /* Triangles wholly in the polygon's solid: beyond its corner circle (the drum), or inside its inscribed
+     * circle (the pillar). */
+    if (drum ? distance >= corner_radius : r2[0] <= h * h && r2[1] <= h * h && r2[2] <= h * h) {
+      poly_cylinder_add_polygon(corners, 3, &sums);
+      continue;
     }
-    for (int s = first; s <= last; s++) {
-      int sector = ((s % facets) + facets) % facets;
-      /* the ray at `end` computed as its neighbour's `start`, so that the two sectors meet exactly */
-      double start = sector * step, end = ((sector + 1) % facets) * step, middle = (sector + 0.5) * step;
-      double polygon_a[10][3], polygon_b[10][3];
-      /* left of the ray at `start` (inclusive), right of the ray at `end` (its neighbour's inclusive side
-       * negated), then the solid side of the facet. */
-      int corners = poly_cylinder_clip((const double (*)[3])p, 3, -sin(start), cos(start), 0.0, 1, polygon_a);
-      if (corners < 3) continue;
-      corners = poly_cylinder_clip((const double (*)[3])polygon_a, corners, sin(end), -cos(end), 0.0, 0, polygon_b);
-      if (corners < 3) continue;
-      corners = poly_cylinder_clip((const double (*)[3])polygon_b, corners, side * cos(middle), side * sin(middle),
-                                   -side * h, 0, polygon_a);
-      for (int m = 1; m + 1 < corners; m++) {
-        const double *a = polygon_a[0], *b = polygon_a[m], *c = polygon_a[m + 1];
-        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-        double projected = 0.5 * cross[2];   /* n_z dA over the piece */
-        double sum_z = a[2] + b[2] + c[2];
-        volume += projected * sum_z / 3.0;
-        for (int k = 0; k < 2; k++)
-          moment[k] += projected * (a[k] * a[2] + b[k] * b[2] + c[k] * c[2] + (a[k] + b[k] + c[k]) * sum_z) / 12.0;
-        moment[2] += projected * (a[2] * a[2] + b[2] * b[2] + c[2] * c[2] + sum_z * sum_z) / 24.0;
-        for (int k = 0; k < 3; k++) area_vector[k] += 0.5 * cross[k];
-        area += 0.5 * sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+    if (!(distance > 0.0)) {   /* the projection surrounds or touches the axis: every sector */
+      poly_cylinder_sector_pieces(corners, 0, facets - 1, facets, h, side, &sums);
+      continue;
+    }
+    /* Only the sectors the triangle's parts in the solid span: those beyond the inscribed circle (drum), or
+     * within the corner circle (pillar). Where the triangle is wholly in the solid (its parts within the
+     * corner circle, or beyond the inscribed one, span other sectors) whole blocks of sectors are one piece. */
+    double ranges[3][2];
+    int reach[3][2], partial[3][2];
+    int reach_count = poly_cylinder_triangle_ranges(corners, drum ? h : corner_radius, drum, ranges);
+    reach_count = poly_cylinder_sector_intervals(ranges, reach_count, step, reach);
+    int partial_count = poly_cylinder_triangle_ranges(corners, drum ? corner_radius : h, !drum, ranges);
+    partial_count = poly_cylinder_sector_intervals(ranges, partial_count, step, partial);
+    for (int r = 0; r < reach_count; r++) {
+      int block = INT_MIN;   /* first sector of the open block */
+      for (int s = reach[r][0]; s <= reach[r][1]; s++) {
+        int whole = 1;
+        for (int q = 0; q < partial_count; q++) whole = whole && !(s >= partial[q][0] && s <= partial[q][1]);
+        if (whole && block == INT_MIN) block = s;
+        if (block != INT_MIN && (!whole || s == reach[r][1] || s - block + 1 >= facets / 8)) {
+          int last = whole ? s : s - 1;
+          if (last >= block) poly_cylinder_block_piece(corners, block, last, facets, &sums);
+          block = INT_MIN;
+        }
+        if (!whole) poly_cylinder_sector_pieces(corners, s, s, facets, h, side, &sums);
       }
     }
   }
+  double volume = sums.volume, *moment = sums.moment, *area_vector = sums.area_vector, area = sums.area;
   if (!(volume > 0.0)) return;
 
   int inside_vertices = 0;

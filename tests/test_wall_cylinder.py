@@ -311,3 +311,69 @@ def test_icosphere_impact_inside_the_drum_matches_liggghts_hertz_sphere(run_deck
     assert sphere_steps > 300 and a["v_y"][-1] > -(DRUM - diameter / 2) and b["f_floor[4]"][-1] == 0
     assert abs(shape_steps / sphere_steps - 1) < 0.02, (shape_steps, sphere_steps)
     assert abs(shape_e / sphere_e - 1) < 0.015, (shape_e, sphere_e)
+
+
+def turned_gravity(angle, ramp_steps):
+    """fix gravity turned quasi-statically over ramp_steps from -y to `angle` degrees towards +x, then held."""
+    tilt = math.radians(angle)
+    return ("unfix gravity\n"
+            f"variable gx equal sin({angle}*PI/180*ramp(0,1))\nvariable gy equal -cos({angle}*PI/180*ramp(0,1))\n"
+            f"fix gravity all gravity {G} vector v_gx v_gy 0\nrun {ramp_steps}\nunfix gravity\n"
+            f"fix gravity all gravity {G} vector {math.sin(tilt)!r} {-math.cos(tilt)!r} 0\n")
+
+
+def test_drum_contact_history_survives_a_restart(run_deck, tmp_path):
+    """The cube in the drum, gravity turned 20 degrees (below the friction angle: held by the tangential
+    spring), restarted mid-hold: the resumed run follows the unbroken one to 1e-12 m."""
+    setup = drum_scene(f"0 {resting_height() + 5e-5} 0", steps=5000) + turned_gravity(20.0, 10000)
+    unbroken = run_deck(setup + "run 5000\n", workdir=tmp_path / "unbroken")
+    first = run_deck(setup + "write_restart half.restart\n", workdir=tmp_path / "first")
+    assert unbroken.returncode == 0 and first.returncode == 0, unbroken.output[-2000:] + first.output[-2000:]
+    body = setup[setup.index("neighbor"):setup.index("create_polyhedron")]
+    body += setup[setup.index("fix integrate"):setup.index("fix gravity")]
+    body += setup[setup.index(WALL):setup.index("run 5000\n")]
+    tilt = math.radians(20.0)
+    resumed = ("atom_modify map array sort 0 0\nread_restart ../first/half.restart\nnewton off\n"
+               "communicate single vel yes\n" + body +
+               f"fix gravity all gravity {G} vector {math.sin(tilt)!r} {-math.cos(tilt)!r} 0\nrun 5000\n")
+    second = run_deck(resumed, workdir=tmp_path / "second")
+    assert second.returncode == 0, second.output[-3000:]
+    a, b = unbroken.thermo("Step", "v_x", "f_floor[4]"), second.thermo("Step", "v_x", "f_floor[4]")
+    assert a["Step"][-len(b["Step"]):] == b["Step"] and all(c == 1 for c in b["f_floor[4]"])
+    difference = np.abs(np.array(a["v_x"][-len(b["Step"]):]) - np.array(b["v_x"])).max()
+    print(f"\nrestart in the drum: largest x difference {difference:.1e} m (cube at x = {b['v_x'][-1]:.6f} m)")
+    assert difference < 1e-12
+
+
+def test_drum_contact_crosses_ranks(run_deck, tmp_path):
+    """Gravity turned to 35 degrees (above the friction angle) from -y towards +x: the cube slides up the
+    drum from x = -5 mm across the boundary x = 0 between two ranks (processors 2 1 1) and follows the
+    single-rank run to round-off."""
+    distance = -resting_height() - 5e-5
+    turn = math.asin(-0.005 / distance)   # the resting pose turned about the axis, to x = -5 mm
+    pose = (f"{-0.005!r} {-distance * math.cos(turn)!r} 0 quat {math.cos(turn / 2)!r} 0 0 {math.sin(turn / 2)!r}")
+    deck = drum_scene(pose, steps=2000) + turned_gravity(35.0, 2000) + "run 10000\n"
+    one = run_deck(deck, workdir=tmp_path / "one")
+    two = run_deck(deck.replace("boundary f f f\n", "processors 2 1 1\nboundary f f f\n"), nprocs=2,
+                   workdir=tmp_path / "two")
+    assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
+    a, b = one.thermo("Step", "v_x", "f_floor[4]"), two.thermo("Step", "v_x", "f_floor[4]")
+    assert a["v_x"][0] < 0 < a["v_x"][-1], a["v_x"]
+    assert all(c == 1 for c in b["f_floor[4]"][1:])
+    worst = max(abs(x - y) for x, y in zip(a["v_x"], b["v_x"]))
+    print(f"\ndrum contact across ranks: x from {a['v_x'][0]:.4f} to {a['v_x'][-1]:.4f} m, largest 1 vs 2 rank "
+          f"difference {worst:.1e} m")
+    assert worst < 1e-12, worst
+
+
+@pytest.mark.parametrize("wall,message", [
+    ("primitive type 2 zcylinder 0.1 0.0", "expected 'primitive type T zcylinder R CX CY'"),
+    ("primitive type 2 zcylinder 0.0 0.0 0.0", "zcylinder radius R must be positive"),
+    ("primitive type 2 zcylinder -0.1 0.0 0.0", "zcylinder radius R must be positive"),
+    ("sagitta 0 primitive type 2 zcylinder 0.1 0.0 0.0", "sagitta must be between 0 and 1"),
+    ("primitive type 2 ycylinder 0.1 0.0 0.0", "unknown primitive 'ycylinder' (xplane, yplane, zplane and zcylinder"),
+])
+def test_bad_cylinder_input_is_a_clear_error(run_deck, wall, message):
+    result = run_deck(drum_scene(f"0 {resting_height()} 0", wall=f"fix floor all wall/polyhedral {wall}\n", steps=10))
+    assert result.returncode != 0
+    assert any(message in line for line in result.error_lines()), result.output[-2000:]
