@@ -1,17 +1,20 @@
 """fix wall/polyhedral primitive zcylinder R CX CY: the overlap geometry of src/poly_cylinder.h against an
 independent reference of the exact cylinder, and the wall as a user runs it.
 
-Geometry reference (numpy, shares nothing with the C code): the volume and first moment of (particle n
-wall solid) as integrals over the wall's part of the xy plane of the particle's vertical chords, found by
-casting vertical rays at the particle's triangles, with the midpoint rule on a polar grid over the band of
-the cylinder the particle reaches. Its own error, measured by doubling the grid, is below 1e-4 of the
-volume and 1e-4 of the particle size (centroid) in these cases, so the comparisons use 5e-4; the
-approximant's error (sagitta 1e-6 of the bounding radius, the fix's default) is far below that.
+Geometry reference (numpy, shares nothing with the C code): the volume and first moment of (particle n wall
+solid) integrate the particle's vertical chords, found by casting vertical rays at its triangles, over the
+wall's part of the xy plane (midpoint rule on a polar grid over the radii and angles that the triangles
+reaching the wall span); the contact normal is the area vector of the cap (the cylinder surface inside the
+particle), from the chords on the circle. Its own error, measured by doubling the grid (800 to 1600 per
+direction) on a cube and an icosphere 1 and 10 % of the bounding radius deep: volume 4e-7 relative, centroid
+4e-8 of the particle size, normal 1e-11. The approximant's, at the fix's default sagitta (1e-6 of the bounding
+radius), is of the same order, so the comparisons use 1e-4 (volume), 1e-5 (centroid) and 1e-4 (normal).
 """
 import ctypes
 import math
 import os
 import subprocess
+import time
 
 import numpy as np
 import pytest
@@ -177,11 +180,11 @@ def pose_near_the_shell(shape, rng, radius, drum, depth_fraction):
 @pytest.fixture(scope="module")
 def particles(cylinder_lib):
     return {name: cylinder_lib.shape(os.path.join(SHAPES, file), scale)
-            for name, file, scale in (("cube", "cube.stl", 0.02), ("icosphere_320", "icosphere_320.off", 0.02),
+            for name, file, scale in (("cube", "cube.stl", 0.02), ("icosphere_1280", "icosphere_1280.off", 0.02),
                                       ("rock_40", "rock_40.obj", 0.02))}
 
 
-@pytest.mark.parametrize("name", ["cube", "icosphere_320", "rock_40"])
+@pytest.mark.parametrize("name", ["cube", "icosphere_1280", "rock_40"])
 @pytest.mark.parametrize("drum", [True, False], ids=["inside", "outside"])
 def test_overlap_matches_the_exact_cylinder(cylinder_lib, particles, name, drum):
     """Random orientations near the shell (drum R = 0.1 m, pillar R = 0.05 m; particles of 20 mm), 0.5..20 %
@@ -192,17 +195,22 @@ def test_overlap_matches_the_exact_cylinder(cylinder_lib, particles, name, drum)
     facets = cylinder_lib.lib.shim_cylinder_facets(radius, 1e-6 * shape.radius)
     size = shape.volume ** (1 / 3)
     rng = np.random.default_rng(7 if drum else 8)
-    worst = [0.0, 0.0, 0.0]
+    worst, cost = [0.0, 0.0, 0.0], 0.0
     for depth_fraction in (0.005, 0.03, 0.2, 0.02, 0.1):
         pose = pose_near_the_shell(shape, rng, radius, drum, depth_fraction)
-        got = cylinder(cylinder_lib, shape, pose, radius, facets)
+        fastest = math.inf
+        for _ in range(20):   # the fastest of 20 calls (through ctypes): the machine may be busy
+            started = time.perf_counter()
+            got = cylinder(cylinder_lib, shape, pose, radius, facets)
+            fastest = min(fastest, time.perf_counter() - started)
+        cost = max(cost, fastest)
         volume, centroid, normal, _ = chord_reference(shape.world(pose), shape.triangles, radius, drum)
         worst[0] = max(worst[0], abs(got["volume"] / volume - 1))
         worst[1] = max(worst[1], np.abs(got["centroid"] - centroid).max() / size)
         worst[2] = max(worst[2], np.abs(got["normal"] - normal).max())
         assert got["normal"][2] == 0.0
     print(f"\n{name} {'inside' if drum else 'outside'} ({facets} facets): worst V {worst[0]:.1e}, "
-          f"centroid {worst[1]:.1e} L, normal {worst[2]:.1e}")
+          f"centroid {worst[1]:.1e} L, normal {worst[2]:.1e}; slowest pose {cost * 1e6:.0f} us a call")
     assert worst[0] < 1e-4 and worst[1] < 1e-5 and worst[2] < 1e-4, worst
 
 
