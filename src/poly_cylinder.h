@@ -13,15 +13,17 @@
  * sides that keep s below the tolerance (poly_cylinder_facets). The wall solid of the approximant is the
  * union over k of sector k (between the half-planes at its two angles, which meet on the axis) intersected
  * with the solid side of facet k's plane. Every point of the particle whose classification differs from the
- * exact cylinder's lies within s of the circle, so |V - V_exact| <= s * (z extent of that band of the
- * particle) * (arc length of the circle inside the particle's projection); the tests measure it.
+ * exact cylinder's lies within s of the circle, so |V - V_exact| <= s * A_cap to first order, A_cap the area
+ * of the cylinder surface inside the particle (tests/test_wall_cylinder.py measures it).
  *
  * Exact for the approximant, with no cap: every face of the wall solid is vertical (parallel to z), so by
  * the divergence theorem with the fields (0, 0, z), (0, 0, x z), (0, 0, y z), (0, 0, z^2 / 2), whose flux
  * through vertical faces vanishes, the volume and first moment of (particle n solid) are integrals over the
- * particle's own surface inside the solid only. Each triangle is clipped to each sector's three half-planes
- * (a convex polygon, Sutherland-Hodgman, no division by the triangle's tilt) and integrated exactly (linear
- * and quadratic integrands over triangles); a vertical triangle adds nothing. The contact normal is the
+ * particle's own surface inside the solid only. Each triangle is clipped to the three half-planes of each
+ * sector that its part in the solid spans (a convex polygon, Sutherland-Hodgman, no division by the
+ * triangle's tilt) and integrated exactly (linear and quadratic integrands over triangles); a vertical
+ * triangle adds nothing. Triangles wholly in the solid, and runs of sectors in which a triangle is, are one
+ * piece each, so only triangles crossing the circle are cut sector by sector. The contact normal is the
  * direction of the summed area vectors of the particle's surface inside the solid (as for mesh walls; it
  * is minus the cap's, horizontal), the depth the deepest point's radial distance into the exact cylinder. */
 #ifndef POLY_CYLINDER_H
@@ -344,18 +346,18 @@ POLY_INLINE void poly_cylinder_overlap(const poly_shape_view_d *shape, const dou
      * within the corner circle (pillar). Where the triangle is wholly in the solid (its parts within the
      * corner circle, or beyond the inscribed one, span other sectors) whole blocks of sectors are one piece. */
     double ranges[3][2];
-    int reach[3][2], partial[3][2];
-    int reach_count = poly_cylinder_triangle_ranges(corners, drum ? h : corner_radius, drum, ranges);
-    reach_count = poly_cylinder_sector_intervals(ranges, reach_count, step, reach);
+    int spans[3][2], partial[3][2];
+    int span_count = poly_cylinder_triangle_ranges(corners, drum ? h : corner_radius, drum, ranges);
+    span_count = poly_cylinder_sector_intervals(ranges, span_count, step, spans);
     int partial_count = poly_cylinder_triangle_ranges(corners, drum ? corner_radius : h, !drum, ranges);
     partial_count = poly_cylinder_sector_intervals(ranges, partial_count, step, partial);
-    for (int r = 0; r < reach_count; r++) {
+    for (int r = 0; r < span_count; r++) {
       int block = INT_MIN;   /* first sector of the open block */
-      for (int s = reach[r][0]; s <= reach[r][1]; s++) {
+      for (int s = spans[r][0]; s <= spans[r][1]; s++) {
         int whole = 1;
         for (int q = 0; q < partial_count; q++) whole = whole && !(s >= partial[q][0] && s <= partial[q][1]);
         if (whole && block == INT_MIN) block = s;
-        if (block != INT_MIN && (!whole || s == reach[r][1] || s - block + 1 >= facets / 8)) {
+        if (block != INT_MIN && (!whole || s == spans[r][1] || s - block + 1 >= facets / 8)) {
           int last = whole ? s : s - 1;
           if (last >= block) poly_cylinder_block_piece(corners, block, last, facets, &sums);
           block = INT_MIN;
