@@ -21,15 +21,17 @@
 #include "fix_particletemplate_polyhedron.h"
 #include "pair_polyhedral_volumetric.h"
 #include "pair_polyhedral_volumetric_gpu.h"
+#include "poly_cylinder.h"
 #include "poly_halfspace.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-// fix ID group wall/polyhedral [tangential history|off] [damping on|off] [thickness H]
-//     primitive type T xplane|yplane|zplane POS  |  mesh n_meshes K meshes MESH-ID ...
+// fix ID group wall/polyhedral [tangential history|off] [damping on|off] [thickness H] [sagitta S]
+//     primitive type T xplane|yplane|zplane POS  |  primitive type T zcylinder R CX CY  |  mesh n_meshes K meshes MESH-ID ...
 FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
-    : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), thickness(0.0), shell_thickness(0.0),
+    : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
+      sagitta(1e-6), thickness(0.0), shell_thickness(0.0),
       have_workspace(false), gpu_precision(-1), tangential(-1), damping(-1), history_id(NULL), history(NULL), pair(NULL),
       force_summed(false)
 {
@@ -55,18 +57,37 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
       thickness = force->numeric(FLERR, arg[iarg + 1]);
       if (!(thickness > 0.0)) error->all(FLERR, "Fix wall/polyhedral: thickness must be positive");
       iarg += 2;
+    } else if (strcmp(key, "sagitta") == 0 && iarg + 1 < narg) {
+      sagitta = force->numeric(FLERR, arg[iarg + 1]);
+      if (!(sagitta > 0.0 && sagitta < 1.0))
+        error->all(FLERR, "Fix wall/polyhedral: sagitta must be between 0 and 1 (a fraction of the bounding radius)");
+      iarg += 2;
     } else if (strcmp(key, "primitive") == 0) {
-      if (iarg + 4 >= narg || strcmp(arg[iarg + 1], "type") != 0)
-        error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T xplane|yplane|zplane POS'");
+      if (iarg + 3 >= narg || strcmp(arg[iarg + 1], "type") != 0)
+        error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T xplane|yplane|zplane POS' or "
+                          "'primitive type T zcylinder R CX CY'");
       wall_type = force->inumeric(FLERR, arg[iarg + 2]);
-      const char *plane = arg[iarg + 3];
-      axis = strcmp(plane, "xplane") == 0 ? 0 : strcmp(plane, "yplane") == 0 ? 1 : strcmp(plane, "zplane") == 0 ? 2 : -1;
+      const char *style = arg[iarg + 3];
+      if (strcmp(style, "zcylinder") == 0) {
+        if (iarg + 6 >= narg) error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T zcylinder R CX CY'");
+        cylinder = true;
+        cylinder_radius = force->numeric(FLERR, arg[iarg + 4]);
+        cylinder_axis[0] = force->numeric(FLERR, arg[iarg + 5]);
+        cylinder_axis[1] = force->numeric(FLERR, arg[iarg + 6]);
+        if (!(cylinder_radius > 0.0)) error->all(FLERR, "Fix wall/polyhedral: zcylinder radius R must be positive");
+        have_plane = true;
+        iarg += 7;
+        continue;
+      }
+      axis = strcmp(style, "xplane") == 0 ? 0 : strcmp(style, "yplane") == 0 ? 1 : strcmp(style, "zplane") == 0 ? 2 : -1;
       if (axis < 0) {
         char message[256];
         snprintf(message, sizeof message,
-                 "Fix wall/polyhedral: unknown primitive '%s' (xplane, yplane and zplane are available)", plane);
+                 "Fix wall/polyhedral: unknown primitive '%s' (xplane, yplane, zplane and zcylinder are available)",
+                 style);
         error->all(FLERR, message);
       }
+      if (iarg + 4 >= narg) error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T xplane|yplane|zplane POS'");
       position = force->numeric(FLERR, arg[iarg + 4]);
       have_plane = true;
       iarg += 5;
@@ -75,7 +96,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     } else {
       char message[256];
       snprintf(message, sizeof message,
-               "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, thickness, primitive, mesh)", key);
+               "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, thickness, sagitta, primitive, mesh)", key);
       error->all(FLERR, message);
     }
   }
@@ -302,7 +323,7 @@ void FixWallPolyhedral::setup(int)
 {
   force_summed = false;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
-  if (meshes.empty()) apply_plane(false);
+  if (meshes.empty()) apply_primitive(false);
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, false);
 }
 
@@ -310,7 +331,7 @@ void FixWallPolyhedral::post_force(int)
 {
   force_summed = false;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
-  if (meshes.empty()) apply_plane(true);
+  if (meshes.empty()) apply_primitive(true);
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, true);
 }
 
@@ -349,26 +370,43 @@ void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, b
   for (int k = 0; k < 3; k++) wall_force[4 + k] -= moment[k] + out.torque_i[k];
 }
 
-void FixWallPolyhedral::apply_plane(bool advance_history)
+// Particle i's overlap with the primitive's solid, which is on the far side of the plane or the cylinder
+// from the particle's centre. The cylinder (src/poly_cylinder.h) is replaced by a polygon whose sagitta is
+// `sagitta` of the particle's bounding radius, its facet count cached per shape.
+void FixWallPolyhedral::primitive_overlap(int i, poly_overlap_result *geometry)
 {
-  double **x = atom->x, **quaternion = atom->quaternion, **springs = history->array_atom;
-  double *rmass = atom->rmass, *density = atom->density, *radius = atom->radius;
-  int *mask = atom->mask, *shapetype = atom->shapetype;
+  double *x = atom->x[i], radius = atom->radius[i];
+  int shapetype = atom->shapetype[i];
+  geometry->volume = 0.0;
+  double rotation[9];
+  if (cylinder) {
+    double dx = x[0] - cylinder_axis[0], dy = x[1] - cylinder_axis[1];
+    if (!(fabs(sqrt(dx * dx + dy * dy) - cylinder_radius) < radius)) return;
+    const poly_shape_view_d &shape = pair->shape_view(shapetype);
+    if (shapetype >= (int)cylinder_facets.size()) cylinder_facets.resize(shapetype + 1, 0);
+    int &facets = cylinder_facets[shapetype];
+    if (facets == 0) facets = poly_cylinder_facets(cylinder_radius, sagitta * shape.bounding_radius);
+    poly_quat_to_matrix(atom->quaternion[i], rotation);
+    poly_cylinder_overlap(&shape, rotation, x, cylinder_axis, cylinder_radius, facets, geometry);
+    return;
+  }
+  if (!(fabs(x[axis] - position) < radius)) return;
+  double side = x[axis] >= position ? 1.0 : -1.0;
+  double normal[3] = {0.0, 0.0, 0.0};
+  normal[axis] = side;
+  poly_quat_to_matrix(atom->quaternion[i], rotation);
+  poly_halfspace_overlap(&pair->shape_view(shapetype), rotation, x, normal, side * position, geometry);
+}
+
+void FixWallPolyhedral::apply_primitive(bool advance_history)
+{
+  double **springs = history->array_atom, *rmass = atom->rmass, *density = atom->density;
   const double zero[3] = {0.0, 0.0, 0.0};
   for (int i = 0; i < atom->nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
+    if (!(atom->mask[i] & groupbit)) continue;
     double *spring = springs[i];
-    // The wall solid is on the far side of the plane from the particle's centre.
-    double side = x[i][axis] >= position ? 1.0 : -1.0;
     poly_overlap_result geometry;
-    geometry.volume = 0.0;
-    if (fabs(x[i][axis] - position) < radius[i]) {
-      double normal[3] = {0.0, 0.0, 0.0};
-      normal[axis] = side;
-      double rotation[9];
-      poly_quat_to_matrix(quaternion[i], rotation);
-      poly_halfspace_overlap(&pair->shape_view(shapetype[i]), rotation, x[i], normal, side * position, &geometry);
-    }
+    primitive_overlap(i, &geometry);
     if (!(geometry.volume > 1e-12 * rmass[i] / density[i]) || !(geometry.depth > 0.0)) {
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) spring[d] = 0.0;
       continue;

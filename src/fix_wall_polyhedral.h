@@ -3,7 +3,8 @@
  * polyhedral/volumetric (the wall is the second body, of infinite mass).
  *
  * Primitive planes: the overlap of a particle with the wall solid is exact
- * (src/poly_halfspace.h). Meshes (fix mesh/surface, mesh/surface/stress, moved
+ * (src/poly_halfspace.h). The zcylinder primitive: exact for a polygonal prism
+ * within a stated sagitta of the cylinder (src/poly_cylinder.h). Meshes (fix mesh/surface, mesh/surface/stress, moved
  * by fix move/mesh): each triangle contributes the particle's overlap with its
  * prism of the shell behind the mesh (src/poly_mesh_shell.h); the prisms
  * partition the shell, so a particle has one contact per mesh whose volume,
@@ -52,7 +53,8 @@ class FixWallPolyhedral : public Fix {
  private:
   int parse_mesh(int iarg, int narg, char **arg);
   void build_shells();
-  void apply_plane(bool advance_history);
+  void apply_primitive(bool advance_history);
+  void primitive_overlap(int i, poly_overlap_result *geometry);
   void apply_mesh(int m, bool advance_history);
   void collect_pieces(int m);
   void compute_overlaps();
@@ -62,6 +64,10 @@ class FixWallPolyhedral : public Fix {
   int wall_type;             // atom type of the plane's material
   int axis;                  // 0, 1, 2 for xplane, yplane, zplane; -1: meshes
   double position;           // of the plane along the axis
+  bool cylinder;             // zcylinder primitive
+  double cylinder_radius, cylinder_axis[2];  // R, (CX, CY)
+  double sagitta;            // of the cylinder's polygon, relative to the particle's bounding radius
+  std::vector<int> cylinder_facets;  // per shape number, 0 until needed
   std::vector<std::string> mesh_ids;
   std::vector<class FixMeshSurface *> meshes;
   std::vector<poly_mesh_shell> shells;  // per mesh, by global triangle number
