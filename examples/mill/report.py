@@ -36,6 +36,9 @@ import sys
 
 import numpy as np
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import make_mill  # noqa: E402
+
 G = 9.81
 RUNS = (("rock", "log.mill_rock", "mill_rock"), ("spheres", "log.mill_spheres", "mill_spheres"))
 
@@ -270,8 +273,6 @@ def tables(results):
 
 def mill_outline(a, angle):
     """The mill's cross-section (x, z) turned by `angle` (radians, in the direction of rotation)."""
-    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-    import make_mill
     ring = make_mill.outline(a.D / 2, a.lifters, a.height, a.width, a.face_angle, a.cells)
     pts = [make_mill.polar_to_xz(make_mill.angle_of(p) + angle, math.hypot(*p), 0.0) for p in ring]
     return np.array(pts + pts[:1])
@@ -296,6 +297,9 @@ def plot(results, a, out):
             ax.hlines(s["mean"], s["t0"], r["t"][-1], colors=c, lw=2,
                       label="%s: steady mean %.3g W" % (r["name"], s["mean"]))
     ax.axvline(results[0]["stats"]["t0"], color="k", lw=0.8, ls="--")
+    # the start-up kick (the charge at rest meets the turning lifters) would flatten the rest of the plot
+    every = np.concatenate([r["power"] for r in results] + [r["arm"] for r in results])
+    ax.set_ylim(min(0.0, np.percentile(every, 0.5)) * 1.2, np.percentile(every, 99.5) * 1.2)
     ax.set_xlabel("time since the mill started (s)")
     ax.set_ylabel("power draw (W)")
     ax.set_title("Mill power draw, %.0f %% of critical speed" % (100 * results[0]["speed"]))
@@ -341,8 +345,6 @@ def plot(results, a, out):
 
 
 def main():
-    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-    import make_mill
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("out")
     make_mill.add_arguments(p)
