@@ -4,7 +4,7 @@
     python3 report.py OUT [--D 0.3 --L 0.1 --lifters 8 --height 0.02 --width 0.02 --face-angle 20 --cells 6]
                           [--steady 1.0] [--bin 5] [--level 0.5]
 
-Reads OUT/log.mill_rock and OUT/log.mill_spheres (either may be missing) and the position dumps
+Reads OUT/log.mill_rock and OUT/log.mill_spheres (either may be missing; .gz too) and the position dumps
 OUT/post/mill_*.dump (.gz too), prints Markdown tables, writes them to OUT/report.md, and draws
 OUT/mill_power.png and OUT/mill_section.png (matplotlib, Agg; skipped without it). The mill options are those of
 make_mill.py (only for drawing the mill's outline).
@@ -19,7 +19,8 @@ side where the charge is lifted).
     torque M g x_cm against the mill, so P_arm = -M g x_cm omega; averaged over the same steady part it differs
     from P only by the change of the charge's angular momentum. Hogg-Fuerstenau's form of it, from the charge
     at rest: P_HF = M g r_c sin(alpha) omega with r_c the distance of the settled charge's centre of mass from
-    the axis and alpha the inclination of the chord from toe to shoulder, (theta_S + theta_T) / 2.
+    the axis and alpha the inclination of the chord from toe to shoulder, (theta_S + theta_T) / 2; and the
+    other way round, the alpha that would give the measured P ("alpha from P").
   * Shoulder and toe: particle centres within --band (default lifter height + d) inside the shell, over the
     steady snapshots, binned by theta (--bin degrees). The charge's contact with the shell is the longest run of
     bins whose count is at least --level (one half) of the typical count (the 90th percentile of the bins); the
@@ -49,7 +50,8 @@ def parse_log(path):
     fix as ID three times) gets '#1', '#2', ... in the order of its columns."""
     out = {"loop": 0.0, "steps": 0, "settle": {}, "mill": {}}
     stage, header = None, None
-    for line in open(path, errors="replace"):
+    opener = gzip.open if str(path).endswith(".gz") else open
+    for line in opener(path, "rt", errors="replace"):
         words = line.split()
         m = re.match(r"^mill: (geometry|speed) ", line)
         if m:
@@ -182,8 +184,15 @@ def power_stats(t, power, period, steady_revs):
             "points": int(sel.sum())}
 
 
+def find_log(out, log):
+    for path in (os.path.join(out, log), os.path.join(out, log + ".gz")):
+        if os.path.exists(path):
+            return path
+    return None
+
+
 def analyse(out, name, log, tag, a):
-    run = parse_log(os.path.join(out, log))
+    run = parse_log(find_log(out, log))
     geo, speed = run["geometry"], run["speed"]
     mill, settle = run["mill"], run["settle"]
     omega, period = speed["omega"], speed["period"]
@@ -230,6 +239,9 @@ def analyse(out, name, log, tag, a):
         r["hf"] = mass * G * r["rc_rest"] * math.sin(alpha) * omega
     else:
         r["alpha"], r["hf"] = float("nan"), float("nan")
+    # the angle the resting charge would have to be turned by to draw the measured power
+    ratio = r["stats"]["mean"] / (mass * G * r["rc_rest"] * omega)
+    r["alpha_power"] = math.degrees(math.asin(ratio)) if -1.0 <= ratio <= 1.0 else float("nan")
     return r
 
 
@@ -249,17 +261,17 @@ def tables(results):
             r["geo"]["D"] / 2, r["ymax"], r["geo"]["L"] / 2, r["revs"], r["steps"], r["loop"]))
     lines += ["", "| run | steady from s | points | P mean W | P std W | P per revolution W | torque N m "
               "| P_arm W (torque arm, same window) | P / P_arm | theta_T toe deg | theta_S shoulder deg "
-              "| snapshots | alpha deg | r_c at rest m | P_HF W | P / P_HF |",
-              "|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+              "| snapshots | alpha deg | r_c at rest m | P_HF W | P / P_HF | alpha from P deg |",
+              "|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in results:
         s, st = r["stats"], r["shoulder_toe"]
         lines.append("| %s | %.3g | %d | %.4g | %.3g | %s | %.4g | %.4g | %.3f | %s | %s | %d | %.3g | %.4g | %.4g "
-                     "| %.3f |" % (
+                     "| %.3f | %.3g |" % (
                          r["name"], s["t0"], s["points"], s["mean"], s["std"],
                          ", ".join("%.3g" % v for v in s["rev_means"]) or "-", r["torque_mean"], r["arm_mean"],
                          s["mean"] / r["arm_mean"], "%.1f" % st["toe"] if st else "-",
                          "%.1f" % st["shoulder"] if st else "-", r.get("snapshots", 0), r["alpha"], r["rc_rest"],
-                         r["hf"], s["mean"] / r["hf"]))
+                         r["hf"], s["mean"] / r["hf"], r["alpha_power"]))
     for r in results:
         if "torque_difference" in r:
             lines += ["", "%s: torque on the mill from fix mesh/surface/stress minus the particles' wall torque "
@@ -290,7 +302,12 @@ def plot(results, a, out):
     fig, ax = plt.subplots(figsize=(7.0, 4.2))
     for r in results:
         c = colours[r["name"]]
-        ax.plot(r["t"], r["power"], "-", color=c, lw=0.6, alpha=0.55, label="%s: P = -T omega" % r["name"])
+        ax.plot(r["t"], r["power"], "-", color=c, lw=0.5, alpha=0.3, label="%s: P = -T omega" % r["name"])
+        # running mean over a tenth of a revolution, to see through the contact noise
+        width = max(1, int(round(0.1 * r["period"] / max(np.diff(r["t"]).mean(), 1e-12))))
+        smooth = np.convolve(r["power"], np.ones(width) / width, mode="valid")
+        ax.plot(r["t"][width // 2:width // 2 + len(smooth)], smooth, "-", color=c, lw=1.2,
+                label="%s: P, running mean over 0.1 revolution" % r["name"])
         ax.plot(r["t"], r["arm"], ":", color=c, lw=1.2, label="%s: torque arm -M g x_cm omega" % r["name"])
         s = r["stats"]
         if not math.isnan(s["mean"]):
@@ -306,7 +323,7 @@ def plot(results, a, out):
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="upper right", ncol=1)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "mill_power.png"), dpi=120)
+    fig.savefig(os.path.join(out, "mill_power.png"), dpi=100)
     plt.close(fig)
     shown = [r for r in results if "last" in r]
     if not shown:
@@ -353,8 +370,7 @@ def main():
     p.add_argument("--bin", type=float, default=5.0, help="angular bin, degrees")
     p.add_argument("--level", type=float, default=0.5, help="fraction of the typical count at toe and shoulder")
     a = p.parse_args()
-    results = [analyse(a.out, name, log, tag, a) for name, log, tag in RUNS
-               if os.path.exists(os.path.join(a.out, log))]
+    results = [analyse(a.out, name, log, tag, a) for name, log, tag in RUNS if find_log(a.out, log)]
     if not results:
         sys.exit("no log.mill_rock or log.mill_spheres in %s" % a.out)
     text = tables(results)
