@@ -6,7 +6,7 @@
 
 Reads OUT/log.mill_rock and OUT/log.mill_spheres (either may be missing; .gz too) and the position dumps
 OUT/post/mill_*.dump (.gz too), prints Markdown tables, writes them to OUT/report.md, and draws
-OUT/mill_power.png and OUT/mill_section.png (matplotlib, Agg; skipped without it). The mill options are those of
+OUT/mill_power.png, OUT/mill_section.png and OUT/mill_band.png (the band profile) (matplotlib, Agg; skipped without it). The mill options are those of
 make_mill.py (only for drawing the mill's outline).
 
 Conventions: the mill turns about +y with angular velocity omega; in the cross-section (x, z) an angle theta is
@@ -358,7 +358,29 @@ def plot(results, a, out):
     fig.tight_layout()
     fig.savefig(os.path.join(out, "mill_section.png"), dpi=120)
     plt.close(fig)
-    print("wrote %s and %s" % (os.path.join(out, "mill_power.png"), os.path.join(out, "mill_section.png")))
+    # the band profile behind the shoulder and toe
+    fig, ax = plt.subplots(figsize=(7.0, 3.4))
+    for r in shown:
+        st = r["shoulder_toe"]
+        if not st:
+            continue
+        c = colours[r["name"]]
+        share = st["counts"] / st["counts"].sum()
+        ax.step(st["centres"], share, where="mid", color=c, label="%s (%d snapshots)" % (r["name"], r["snapshots"]))
+        ax.axhline(st["threshold"] / st["counts"].sum(), color=c, ls=":", lw=1)
+        for key in ("toe", "shoulder"):
+            ax.axvline((st[key] + 180) % 360 - 180, color=c, ls="--", lw=1)
+    ax.set_xlabel("theta: angle from the bottom of the shell, in the sense of rotation (deg)")
+    ax.set_ylabel("share of centres in the band")
+    ax.set_title("Centres within h + d of the shell; dotted: half the typical level; dashed: toe, shoulder",
+                 fontsize=9)
+    ax.set_xlim(-180, 180)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "mill_band.png"), dpi=100)
+    plt.close(fig)
+    print("wrote %s, %s and %s" % tuple(os.path.join(out, "mill_%s.png" % k) for k in ("power", "section", "band")))
 
 
 def main():
