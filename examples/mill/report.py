@@ -304,7 +304,7 @@ def plot(results, a, out):
         c = colours[r["name"]]
         ax.plot(r["t"], r["power"], "-", color=c, lw=0.5, alpha=0.3, label="%s: P = -T omega" % r["name"])
         # running mean over a tenth of a revolution, to see through the contact noise
-        width = max(1, int(round(0.1 * r["period"] / max(np.diff(r["t"]).mean(), 1e-12))))
+        width = min(len(r["t"]), max(1, int(round(0.1 * r["period"] / max(np.diff(r["t"]).mean(), 1e-12)))))
         smooth = np.convolve(r["power"], np.ones(width) / width, mode="valid")
         ax.plot(r["t"][width // 2:width // 2 + len(smooth)], smooth, "-", color=c, lw=1.2,
                 label="%s: P, running mean over 0.1 revolution" % r["name"])
