@@ -7,8 +7,10 @@
  * particle's pieces are combined into its contact with the mesh
  * (poly_mesh_contact_combine) from either side's pieces and nodes. Prints the
  * worst relative difference of the pieces' V and centroid and of the contacts'
- * V, centroid, normal and depth (normal and depth where the contact has one:
- * see the comment in main); exits non-zero above 1e-10 (double) or 1e-4
+ * V, centroid, normal and depth (normal and depth where the contact has one
+ * and both sides found the same pieces: see the comment in main; at most
+ * 0.5 % of the contacts may have a piece at the round-off floor found by one
+ * side only); exits non-zero above 1e-10 (double) or 1e-4
  * (single, mixed). Scales as tests/unit/gpu_agreement.cpp: V against
  * max(V, 1e-3 V_p), centroid against the bounding radius, normal and depth for
  * contacts above 1e-3 V_p. Usage:
@@ -204,7 +206,7 @@ int main(int argc, char **argv)
     // The host's pieces, in the same precision, and both sides' combined contacts per particle.
     Worst worst = {0.0, "-", -1};
     const double floor_volume = (precision == POLY_PRECISION_DOUBLE ? 1e-12 : 1e-6) * volume_p;
-    int touching_pieces = 0, contacts = 0, conditioned = 0;
+    int touching_pieces = 0, contacts = 0, conditioned = 0, ambiguous = 0;
     std::vector<poly_overlap_result> host_pieces, gpu_pieces;
     std::vector<double> host_nodes, gpu_node_copy;
     std::vector<int> host_first, host_count, gpu_first, gpu_count;
@@ -212,6 +214,7 @@ int main(int argc, char **argv)
       int n = piece_particle[first];
       host_pieces.clear(); gpu_pieces.clear(); host_nodes.clear(); gpu_node_copy.clear();
       host_first.clear(); host_count.clear(); gpu_first.clear(); gpu_count.clear();
+      bool one_sided = false;
       for (; p < num_pieces && piece_particle[p] == n; p++) {
         const poly_mesh_prism &prism = prisms[piece_prism[p]];
         poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
@@ -240,8 +243,10 @@ int main(int argc, char **argv)
         worst.take(fabs(host.volume - device.volume) / fmax(host.volume, small), "piece volume", n);
         if (host.volume > small) worst.take(relative(host.centroid, device.centroid, 3, radius), "piece centroid", n);
         // A piece may be found by one side only when its volume is at the round-off floor.
-        if ((host.volume > 0.0) != (device.volume > 0.0) && fmax(host.volume, device.volume) > floor_volume)
-          worst.take(1.0, "piece found by one side", n);
+        if ((host.volume > 0.0) != (device.volume > 0.0)) {
+          if (fmax(host.volume, device.volume) > floor_volume) worst.take(1.0, "piece found by one side", n);
+          one_sided = true;
+        }
         if (host.volume > 0.0) {
           touching_pieces++;
           host_pieces.push_back(host);
@@ -271,8 +276,12 @@ int main(int argc, char **argv)
       if (a.volume > small) worst.take(relative(a.centroid, b.centroid, 3, radius), "contact centroid", n);
       // The normal is the direction of the summed area vectors of the particle's surface inside the shell,
       // which cancel where the particle is (nearly) wholly inside it; there it carries no information and
-      // any difference in the pieces turns it anywhere. Checked where the sum is 5 % of the area or more.
-      if (a.volume > small && a.projected_area >= 0.05 * a.area) {
+      // any difference in the pieces turns it anywhere. Checked where the sum is 5 % of the area or more,
+      // and where both sides found the same pieces: a sliver of a particle's face lying in a prism's face has
+      // a volume at the round-off floor but may have a large area, and whether it is found is round-off's
+      // decision (counted, and bounded below).
+      if (one_sided) ambiguous++;
+      if (a.volume > small && a.projected_area >= 0.05 * a.area && !one_sided) {
         conditioned++;
         worst.take(relative(a.normal, b.normal, 3, 1.0), "contact normal", n);
         worst.take(fabs(a.depth - b.depth) / fmax(a.depth, 1e-300), "contact depth", n);
@@ -280,9 +289,10 @@ int main(int argc, char **argv)
     }
     printf("%-20s %s: %5d particles, %6d pieces (%5d touching), %5d contacts (%5d with a normal), worst relative "
            "difference %.2e (%s, particle %d); pieces/s: GPU %.3g (pieces up, overlaps and nodes down), one CPU core "
-           "%.3g\n", names[s], argv[3], count, num_pieces, touching_pieces, contacts, conditioned, worst.value,
+           "%.3g\n", names[s], argv[3], count, num_pieces, touching_pieces, contacts, conditioned, ambiguous, worst.value,
            worst.what, worst.particle, num_pieces / gpu_seconds, num_pieces / host_seconds);
-    if (worst.value > tolerance || contacts < count / 4 || conditioned < count / 4) failures++;
+    if (worst.value > tolerance || contacts < count / 4 || conditioned < count / 4 || ambiguous > contacts / 200)
+      failures++;
     poly_shape_view_free_f(&view_f);
     poly_mesh_shell_free(&shell);
   }
