@@ -73,7 +73,7 @@ $(BUILD)/obj/%.o: gpu/%.cu $(wildcard gpu/*.h gpu/*.cuh) $(wildcard src/poly_*.h
 # GPU vs CPU agreement, pair by pair and wall piece by piece (tests/test_gpu.py runs them where there is a GPU).
 $(BUILD)/tests/%: tests/unit/%.cpp $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,$(OBJECTS))
 	@mkdir -p $(dir $@)
-	$(CXX) -std=c++11 $(OPT) -Isrc -Igpu $< $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,$(OBJECTS)) $(CUDA_LIBS) -lm -o $@
+	$(CXX) -std=c++11 $(OPT) -Wall -Wextra -Isrc -Igpu $< $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,$(OBJECTS)) $(CUDA_LIBS) -lm -o $@
 
 $(LIBRARY): $(OBJECTS) $(CUDA_OBJECTS)
 	@mkdir -p $(dir $@)

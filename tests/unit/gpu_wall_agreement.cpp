@@ -287,8 +287,8 @@ int main(int argc, char **argv)
         worst.take(fabs(a.depth - b.depth) / fmax(a.depth, 1e-300), "contact depth", n);
       }
     }
-    printf("%-20s %s: %5d particles, %6d pieces (%5d touching), %5d contacts (%5d with a normal), worst relative "
-           "difference %.2e (%s, particle %d); pieces/s: GPU %.3g (pieces up, overlaps and nodes down), one CPU core "
+    printf("%-20s %s: %5d particles, %6d pieces (%5d touching), %5d contacts (%5d with a normal, %d with a piece at the round-off floor "
+           "on one side), worst relative difference %.2e (%s, particle %d); pieces/s: GPU %.3g (pieces up, overlaps and nodes down), one CPU core "
            "%.3g\n", names[s], argv[3], count, num_pieces, touching_pieces, contacts, conditioned, ambiguous, worst.value,
            worst.what, worst.particle, num_pieces / gpu_seconds, num_pieces / host_seconds);
     if (worst.value > tolerance || contacts < count / 4 || conditioned < count / 4 || ambiguous > contacts / 200)
