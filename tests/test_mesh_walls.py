@@ -8,6 +8,7 @@ slide on a mesh floor; an icosphere impact on a mesh floor against LIGGGHTS' sph
 a particle shaken in a closed box; the torque a drum's particles put on it; bad input.
 """
 import math
+import re
 
 import numpy as np
 import pytest
@@ -250,3 +251,25 @@ def test_mesh_walls_need_binned_neighbour_lists(run_deck, tmp_path):
     result = run_deck(deck, workdir=tmp_path / "run")
     assert result.returncode != 0
     assert any("bin" in text for text in result.error_lines()), result.output[-2000:]
+
+
+def test_particle_much_larger_than_the_skin_still_meets_the_mesh(run_deck, tmp_path):
+    """The mesh neighbour lists reach bounding radius + skin, so a particle far larger than the skin needs
+    no special setting: the 20 mm cube, dropped from 5 mm above a 200-triangle floor with a skin of
+    10 um (1/2000 of the cube), lands (LIGGGHTS reports no dangerous neighbour-list build) and rests with
+    the wall carrying its weight within 1 %."""
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(10, 0.1))
+    pose = f"0.003 -0.002 {EDGE / 2 + 0.005} quat {math.cos(0.3)} 0 0 {math.sin(0.3)}"
+    deck = scene(mesh_wall("../floor.stl"), pose, steps=30000).replace("neighbor 0.002 bin", "neighbor 0.00001 bin")
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode == 0, result.output[-3000:]
+    table = result.thermo("Step", "v_z", "f_floor[3]", "f_floor[4]")
+    settled = [i for i, step in enumerate(table["Step"]) if step >= 20000]
+    force = np.array(table["f_floor[3]"])[settled]
+    print(f"\nskin 1/2000 of the cube: force / weight - 1 = {-force.mean() / (MASS * G) - 1:.2e}, lowest z "
+          f"{min(table['v_z']) * 1e3:.4f} mm")
+    assert min(table["v_z"]) > EDGE / 2 - 1e-4  # it never fell through
+    assert all(table["f_floor[4]"][i] == 1 for i in settled)
+    assert abs(-force.mean() / (MASS * G) - 1) < 0.01, force.mean()
+    dangerous = re.search(r"Dangerous builds\s*=\s*(\d+)", result.output)
+    assert dangerous and int(dangerous.group(1)) == 0, result.output[-2000:]
