@@ -1,5 +1,5 @@
 """examples/calibration_rig: the sigmoid fit of eq. 6.1 on synthetic heaps of known angle, the rig's meshes, and a
-smoke run at a tiny size (run.py with 80 rock_10 rocks: fill, doors opening, flow down the tilted plane, heap on
+smoke run at a tiny size (run.py with 60 rock_10 rocks in a 30 mm wide channel: fill, doors opening, flow down the tilted plane, heap on
 the bottom plate; report.py reads the log and the final surfaces). About 40 s on 2 idle cores."""
 import importlib.util
 import json
@@ -28,9 +28,9 @@ report = load("report")
 make_rig = load("make_rig")
 make_hopper = load("make_hopper", ROOT / "examples" / "hopper")   # its normal() and unit()
 
-N = 80
-SETTLE = 0.15
-FLOW = 0.6
+N = 60
+SETTLE = 0.2
+FLOW = 0.45
 
 
 @pytest.mark.parametrize("angle", [20.0, 37.0, 50.0])

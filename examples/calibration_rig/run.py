@@ -2,7 +2,7 @@
 """Calibration rig (document 000, sec. 6.3): writes the meshes, runs in.rig for each rock shape and seed, then
 report.py. See doc/calibration_rig.md.
 
-    /usr/bin/python3 run.py [--N 200] [--shapes rock_10.obj,rock_20.obj,rock_40.obj,rock_70.obj] [--seeds 2]
+    /usr/bin/python3 run.py [--N 150] [--shapes rock_10.obj,rock_20.obj,rock_40.obj,rock_70.obj] [--seeds 2]
 
 Materials from table A.2 of document 000: E = 2e7 Pa (rocks) and 1e8 Pa (walls), nu = 0.25, friction 0.39
 (rock-rock) and 0.35 (rock-wall), and the damping coefficients gamma = 0.453619 and 0.382097 of eq. 4.5
@@ -125,7 +125,7 @@ def run_deck(a, var, workdir):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--N", type=int, default=200)
+    p.add_argument("--N", type=int, default=150)
     p.add_argument("--shapes", default="rock_10.obj,rock_20.obj,rock_40.obj,rock_70.obj")
     p.add_argument("--seeds", type=int, default=2, help="runs per shape (the first SEEDS)")
     p.add_argument("--first-seed", type=int, default=0, help="index in SEEDS of the first seed")
@@ -136,9 +136,9 @@ def main():
     p.add_argument("--rho", type=float, default=2700.0, help="rock density, kg/m^3 (not in table A.2)")
     p.add_argument("--E", type=float, default=None, help="rock Young's modulus, Pa (table A.2: 2e7)")
     p.add_argument("--dt", type=float, default=2.5e-5)
-    p.add_argument("--settle", type=float, default=0.25)
+    p.add_argument("--settle", type=float, default=0.2)
     p.add_argument("--open", type=float, default=0.05, help="s for the doors' quarter turn")
-    p.add_argument("--flow", type=float, default=0.8, help="s after the doors opened")
+    p.add_argument("--flow", type=float, default=0.6, help="s after the doors opened")
     p.add_argument("--M", type=int, default=200, help="thermo output every M steps")
     p.add_argument("--launcher", default=str(ROOT / "build" / "bin" / "liggghts-poly"))
     p.add_argument("--out", default=str(HERE / "post"))
