@@ -110,7 +110,8 @@ def test_smoke_rocks_are_conserved_and_leave_the_hopper(rig_run):
     out, _, r = rig_run
     assert r["inserted"] == N and r["atoms_end"] == N           # thermo_modify lost error: none may leave
     assert r["in_hopper_end"] == 0
-    assert r["ke_release"] < 1e-3 * r["ke_max"]                  # at rest on the closed doors before they open
+    # nearly at rest on the closed doors before they open: rms speed under 5 cm/s (about 1 m/s in the flow)
+    assert math.sqrt(2 * r["ke_release"] / r["mass"]) < 0.05
     assert r["flow_end"] < SETTLE + FLOW                         # 95 % reach the plate within the run
 
 
