@@ -48,7 +48,7 @@ def test_sigmoid_fit_recovers_the_angle_of_a_sigmoid_heap(angle):
 def test_height_map_of_a_point_cloud_under_a_ramp():
     """Points filling a heap with a plateau, a straight 35-degree flank and nothing beyond: height_map takes the
     highest point per bin, and the sigmoid's steepest slope lies between the flank's and 1.3 times it (the fit
-    rounds the two corners off and steepens the middle)."""
+    rounds the two corners off and steepens the middle); the straight-line cross-check gives the flank's angle."""
     rng = np.random.default_rng(3)
     x = rng.uniform(0.0, 0.15, 200000)
     top = np.clip(0.04 - math.tan(math.radians(35.0)) * (x - 0.03), 0.0, 0.04)
@@ -59,6 +59,7 @@ def test_height_map_of_a_point_cloud_under_a_ramp():
     assert np.all(heights <= edge_top + 1e-12) and np.all(heights > edge_top - 1e-3)
     angle = report.fit_repose_angle(centres, heights)[3]
     assert 35.0 <= angle <= math.degrees(math.atan(1.3 * math.tan(math.radians(35.0)))), angle
+    assert report.flank_angle(centres, heights) == pytest.approx(35.0, abs=1.0)   # the straight flank itself
 
 
 def test_rig_meshes_face_the_rocks():

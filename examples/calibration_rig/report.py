@@ -9,7 +9,10 @@ Height map (document 000, sec. 6.3): the bottom plate from the back wall x = 0 t
 plate, times the rig's scale) in --bins bins along the flow; h_i = the highest surface vertex in bin i of the
 rocks whose centre lies below the lip of the tilted plane (the rocks on the plate). Eq. 6.1,
 h(x) = c / (1 + exp(a (x - b))), is fitted with scipy's curve_fit; the angle of repose is the steepest slope of
-the fit, atan(|a| c / 4), at x = b.
+the fit on the map, atan(|a| c / 4) at x = b (or, when b falls off the map, the slope at the map's end
+nearest to it; the table marks those runs).
+Cross-check: the angle of a straight line through the flank, the bins from the highest one on in +x down to
+the heap's toe (20 % of the highest) less those above 80 % of it.
 Flow phase: from the opening of the doors until 95 % of the rocks have their centre below the lip; its kinetic
 energy is the mean of the translational plus rotational energy over the thermo outputs in it.
 """
@@ -38,13 +41,34 @@ def sigmoid(x, a, b, c):
 
 
 def fit_repose_angle(x, h):
-    """Fits eq. 6.1 to the height map; returns (a, b, c, angle in degrees)."""
+    """Fits eq. 6.1 to the height map; returns (a, b, c, angle in degrees). The angle is that of the steepest
+    slope of the fit on the map, x[0] <= x <= x[-1]: atan(|a| c / 4) at x = b when b is on the map, else the
+    slope at the map's end nearest to b (a heap against the back wall may have no plateau, and then the fit's
+    inflection can fall behind the wall, where there is no heap to measure)."""
     x, h = np.asarray(x, float), np.asarray(h, float)
     c0 = h.max()
     half = x[np.argmax(h < c0 / 2)] if (h < c0 / 2).any() else x[-1]
     a0 = 4 * math.tan(math.radians(35.0)) / c0      # a steepest slope of 35 degrees to start from
     (a, b, c), _ = curve_fit(sigmoid, x, h, p0=(a0, half, c0), maxfev=20000)
-    return a, b, c, math.degrees(math.atan(abs(a) * c / 4))
+    e = math.exp(min(a * (min(max(b, x[0]), x[-1]) - b), 700.0))
+    steepest = abs(a * c) * e / (1.0 + e) ** 2
+    return a, b, c, math.degrees(math.atan(steepest))
+
+
+def flank_angle(x, h, low=0.2, high=0.8):
+    """A cross-check without the sigmoid: the angle of the least-squares line through the heap's flank, the
+    bins from the highest one on in +x down to the first below `low` of its height, less those above `high`
+    of it (nan with fewer than 3 such bins). Stray rocks beyond the heap's toe do not count."""
+    x, h = np.asarray(x, float), np.asarray(h, float)
+    top = int(np.argmax(h))
+    end = top
+    while end < len(h) and h[end] >= low * h[top]:
+        end += 1
+    flank = np.arange(top, end)
+    flank = flank[h[flank] <= high * h[top]]
+    if flank.size < 3:
+        return float("nan")
+    return math.degrees(math.atan(abs(np.polyfit(x[flank], h[flank], 1)[0])))
 
 
 def height_map(points, x_hi, bins):
@@ -120,30 +144,34 @@ def analyse(out, run, dims, bins, xmap):
                 ke_release=float(ke[at_release]), flow_start=release, flow_end=float(flow_end),
                 ke_flow=float(ke[window].mean()), ke_max=float(ke.max()), ke_end=float(ke[-1]),
                 ke_last_tenth=float(ke[t >= t[-1] - 0.1 * (t[-1] - release)].mean()),
-                xmax_end=float(final["x"].max()), a=a, b=b, c=c, angle=angle, wall_s=run["wall_s"],
+                xmax_end=float(final["x"].max()), a=a, b=b, c=c, angle=angle, b_on_map=bool(x[0] <= b <= x[-1]),
+                flank=flank_angle(x, h), wall_s=run["wall_s"],
                 map_x=x.tolist(), map_h=h.tolist(), t=t.tolist(), ke=ke.tolist())
 
 
 def tables(results):
     lines = ["| run | inserted | atoms at end | mass kg | on plate | KE at release J | flow phase s "
-             "| mean KE flow J | KE flow J/kg | KE end J | c mm | b mm | a 1/m | angle deg | wall s |",
-             "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "| mean KE flow J | KE flow J/kg | KE end J | c mm | b mm | a 1/m | angle deg | flank deg | wall s |",
+             "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    # b off the map: the inflection of the fit lies outside the mapped plate (marked *)
     for r in results:
-        lines.append("| %s | %d | %d | %.4g | %d | %.3g | %.3g-%.3g | %.4g | %.4g | %.3g | %.1f | %.1f | %.0f | %.1f "
-                     "| %.0f |" % (r["run"], r["inserted"], r["atoms_end"], r["mass"], r["on_plate"],
+        lines.append("| %s | %d | %d | %.4g | %d | %.3g | %.3g-%.3g | %.4g | %.4g | %.3g | %.1f | %.1f%s | %.0f | %.1f "
+                     "| %.1f | %.0f |" % (r["run"], r["inserted"], r["atoms_end"], r["mass"], r["on_plate"],
                                    r["ke_release"], r["flow_start"], r["flow_end"], r["ke_flow"],
-                                   r["ke_flow"] / r["mass"], r["ke_end"], 1e3 * r["c"], 1e3 * r["b"], r["a"],
-                                   r["angle"], r["wall_s"]))
-    lines += ["", "| shape | triangles | runs | angle deg mean | sd | min-max | in 33-42 | KE flow J/kg mean | sd |",
-              "|---|---:|---:|---:|---:|---|---:|---:|---:|"]
+                                   r["ke_flow"] / r["mass"], r["ke_end"], 1e3 * r["c"], 1e3 * r["b"],
+                                   "" if r["b_on_map"] else "*", r["a"],
+                                   r["angle"], r["flank"], r["wall_s"]))
+    lines += ["", "| shape | triangles | runs | angle deg mean | sd | min-max | in 33-42 | flank deg mean "
+              "| KE flow J/kg mean | sd |", "|---|---:|---:|---:|---:|---|---:|---:|---:|---:|"]
     for tri in sorted({r["triangles"] for r in results}):
         group = [r for r in results if r["triangles"] == tri]
         angles = np.array([r["angle"] for r in group])
         energy = np.array([r["ke_flow"] / r["mass"] for r in group])
         inside = sum(EXPERIMENTAL_RANGE[0] <= x <= EXPERIMENTAL_RANGE[1] for x in angles)
-        lines.append("| %s | %d | %d | %.1f | %.1f | %.1f-%.1f | %d | %.4g | %.2g |" % (
+        lines.append("| %s | %d | %d | %.1f | %.1f | %.1f-%.1f | %d | %.1f | %.4g | %.2g |" % (
             group[0]["shape"], tri, len(group), angles.mean(), angles.std(ddof=1) if len(group) > 1 else 0.0,
-            angles.min(), angles.max(), inside, energy.mean(), energy.std(ddof=1) if len(group) > 1 else 0.0))
+            angles.min(), angles.max(), inside, np.nanmean([r["flank"] for r in group]), energy.mean(),
+            energy.std(ddof=1) if len(group) > 1 else 0.0))
     return "\n".join(lines)
 
 
