@@ -104,10 +104,14 @@ def deck_variables(a, shape, seed, dims, mesh_dir):
     return var
 
 
+STUDY_SHAPES = "rock_10.obj,rock_20.obj,rock_40.obj,rock_70.obj"
+
+
 def bin_height(a, dims, mesh_dir, shapes):
-    """Bin height for N bounding spheres of the largest class, the roomiest of the shapes, at --fill."""
+    """Bin height for N bounding spheres of the largest class of the roomiest shape, at --fill. The shapes of
+    the study count too, so that a call for some of them builds the same rig as one for all."""
     rb = 0.0
-    for shape in shapes:
+    for shape in set(shapes) | set(STUDY_SHAPES.split(",")):
         path = shape_path(shape, mesh_dir)
         rb = max(rb, bounding_radius(path) * size_classes(path)[0][-1])
     area = (dims["Wt"] - 2 * rb) * (dims["W"] - 2 * rb)
@@ -126,7 +130,7 @@ def run_deck(a, var, workdir):
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--N", type=int, default=150)
-    p.add_argument("--shapes", default="rock_10.obj,rock_20.obj,rock_40.obj,rock_70.obj")
+    p.add_argument("--shapes", default=STUDY_SHAPES)
     p.add_argument("--seeds", type=int, default=2, help="runs per shape (the first SEEDS)")
     p.add_argument("--first-seed", type=int, default=0, help="index in SEEDS of the first seed")
     p.add_argument("--scale", type=float, default=1.0, help="multiplies the rig's lengths (make_rig.py)")
