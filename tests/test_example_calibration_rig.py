@@ -121,7 +121,7 @@ def test_smoke_heap_on_the_plate(rig_run):
     assert r["on_plate"] >= 0.95 * N
     heights = np.array(r["map_h"])
     assert heights[0] > 0.0 and heights.max() > 0.015       # more than a layer of 4-7 mm rocks at the back wall
-    assert r["xmax_end"] < 0.30                              # the heap stays off the end wall
+    assert r["xmax_end"] < 0.2                               # nothing has rolled on to the end wall (0.3 m)
 
 
 def test_smoke_angle_and_energy_are_sane(rig_run):

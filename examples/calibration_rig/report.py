@@ -192,6 +192,9 @@ def plots(results, out):
         ax.plot(triangles, mean, ":", color="k", label="mean")
         ax.fill_between(triangles, mean - sd, mean + sd, color="0.8", label="mean +- sd")
         if key == "angle":
+            for n, tri in enumerate(triangles):
+                ax.plot([tri] * len(values[tri]), [r["flank"] for r in results if r["triangles"] == tri], "x",
+                        color="tab:blue", ms=5, label="flank angle (cross-check)" if n == 0 else None)
             ax.axhspan(*EXPERIMENTAL_RANGE, color="tab:green", alpha=0.15, label="experiments, 33-42")
         ax.set_xlabel("triangles per rock")
         ax.set_ylabel(label)
