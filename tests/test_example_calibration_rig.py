@@ -29,7 +29,7 @@ make_rig = load("make_rig")
 make_hopper = load("make_hopper", ROOT / "examples" / "hopper")   # its normal() and unit()
 
 N = 60
-SETTLE = 0.2
+SETTLE = 0.25
 FLOW = 0.45
 
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the calibration rig of document 000, sec. 6.3, as ASCII STL files (metres) for in.rig.
 
-    python3 make_rig.py [--scale 1] [--Hbin 0.06] [--outdir mesh]
+    python3 make_rig.py [--scale 1] [--Hbin 0.165] [--outdir mesh]
 
 The rig is a channel of width W (y in [0, W], closed by the plane walls y = 0 and y = W of the deck), seen
 from the side (x horizontal, z up):
@@ -17,7 +17,8 @@ from the side (x horizontal, z up):
 
 Every triangle's normal points to where the rocks are (into the hopper, up from the doors, out of the slab)
 as fix wall/polyhedral wants. Every length is the default times --scale; table A.2 of document 000 gives the
-materials but not the rig's dimensions, so these are chosen here: about 150 rocks of 5-10 mm at scale 1.
+materials but not the rig's dimensions, so these are chosen here: about 150 rocks of 5-10 mm at scale 1
+(the bin's default height is what run.py makes for 150 rocks).
 Prints the derived positions as `key = value` lines (in.rig's -var values).
 """
 import argparse
@@ -30,7 +31,7 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "hopper"
 from make_hopper import facing, quad, write_stl  # noqa: E402
 
 DEFAULTS = dict(W=0.045, Lp=0.30, x_lip=0.03, z_lip=0.09, theta=45.0, Lt=0.16, plate_t=0.015,
-                xh=0.10, Do=0.04, Wt=0.10, alpha=30.0, z_out=0.21, Hbin=0.06)
+                xh=0.10, Do=0.04, Wt=0.10, alpha=30.0, z_out=0.21, Hbin=0.165)
 ANGLES = ("theta", "alpha")
 
 
