@@ -324,6 +324,7 @@ void FixWallPolyhedral::setup(int)
   force_summed = false;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
   if (meshes.empty()) apply_primitive(false);
+  if (!meshes.empty()) compute_mesh_overlaps();
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, false);
 }
 
@@ -332,6 +333,7 @@ void FixWallPolyhedral::post_force(int)
   force_summed = false;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
   if (meshes.empty()) apply_primitive(true);
+  if (!meshes.empty()) compute_mesh_overlaps();
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, true);
 }
 
@@ -417,17 +419,36 @@ void FixWallPolyhedral::apply_primitive(bool advance_history)
   }
 }
 
-// Each (particle, triangle) candidate of LIGGGHTS' mesh neighbour list: the particle's overlap with the
-// triangle's prism, with the wall's velocity at the piece's centroid.
-void FixWallPolyhedral::collect_pieces(int m)
+// The (particle, prism) candidates of every mesh and their overlaps, in one batch (one GPU call per step).
+void FixWallPolyhedral::compute_mesh_overlaps()
+{
+  prisms.clear();
+  candidates.clear();
+  mesh_first_candidate.assign(meshes.size() + 1, 0);
+  for (size_t m = 0; m < meshes.size(); m++) {
+    gather_candidates((int)m);
+    mesh_first_candidate[m + 1] = candidates.size();
+  }
+  // The copies' views still point into the prism they were copied from.
+  for (size_t p = 0; p < prisms.size(); p++) {
+    poly_mesh_prism &prism = prisms[p];
+    prism.view.vertices = prism.vertices;
+    prism.view.face_normals = prism.face_normals;
+    prism.view.triangles = prism.triangles;
+    prism.view.edges = prism.edges;
+    prism.view.edge_triangles = prism.edge_triangles;
+  }
+  compute_overlaps();
+}
+
+// Each (particle, triangle) pair of LIGGGHTS' mesh neighbour list whose bounding spheres can touch.
+void FixWallPolyhedral::gather_candidates(int m)
 {
   TriMesh *mesh = meshes[m]->triMesh();
   FixNeighlistMesh *list = meshes[m]->meshNeighlist();
   double **x = atom->x, *radius = atom->radius;
   int *mask = atom->mask;
   const int nlocal = atom->nlocal, triangles = mesh->size();
-  prisms.clear();
-  candidates.clear();
   for (int j = 0; j < triangles; j++) {
     const std::vector<int> &neighbours = list->get_contact_list(j);
     if (neighbours.empty()) continue;
@@ -453,22 +474,17 @@ void FixWallPolyhedral::collect_pieces(int m)
       candidates.push_back(candidate);
     }
   }
-  // The copies' views still point into the prism they were copied from.
-  for (size_t p = 0; p < prisms.size(); p++) {
-    poly_mesh_prism &prism = prisms[p];
-    prism.view.vertices = prism.vertices;
-    prism.view.face_normals = prism.face_normals;
-    prism.view.triangles = prism.triangles;
-    prism.view.edges = prism.edges;
-    prism.view.edge_triangles = prism.edge_triangles;
-  }
-  compute_overlaps();
+}
 
+// Mesh m's pieces: its candidates that overlap, with the wall's velocity at each piece's centroid.
+void FixWallPolyhedral::collect_pieces(int m)
+{
+  TriMesh *mesh = meshes[m]->triMesh();
   MultiVectorContainer<double, 3, 3> *velocity_container =
       mesh->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v");
   double ***vertex_velocity = velocity_container ? velocity_container->begin() : NULL;
   pieces.clear();
-  for (size_t c = 0; c < candidates.size(); c++) {
+  for (size_t c = mesh_first_candidate[m]; c < mesh_first_candidate[m + 1]; c++) {
     const poly_overlap_result &geometry = overlaps[c];
     if (!(geometry.volume > 0.0)) continue;
     int j = candidates[c].triangle;

@@ -56,6 +56,8 @@ class FixWallPolyhedral : public Fix {
   void apply_primitive(bool advance_history);
   void primitive_overlap(int i, poly_overlap_result *geometry);
   void apply_mesh(int m, bool advance_history);
+  void compute_mesh_overlaps();
+  void gather_candidates(int m);
   void collect_pieces(int m);
   void compute_overlaps();
   void apply_contact(int i, int wall_type, double *spring, bool advance_history, double volume, double depth,
@@ -80,7 +82,8 @@ class FixWallPolyhedral : public Fix {
     int particle, triangle, prism;        // local atom, local triangle, index into `prisms`
   };
   std::vector<poly_mesh_prism> prisms;   // of the current mesh's triangles that have candidates
-  std::vector<MeshCandidate> candidates;
+  std::vector<MeshCandidate> candidates;  // of all meshes, mesh by mesh
+  std::vector<size_t> mesh_first_candidate;  // mesh m's are [mesh_first_candidate[m], mesh_first_candidate[m + 1])
   std::vector<poly_overlap_result> overlaps;         // per candidate
   std::vector<int> overlap_first_node, overlap_num_nodes;  // per candidate, into `nodes`; < 0: not kept
   std::vector<poly_gpu_wall_overlap> gpu_overlaps;
