@@ -106,15 +106,20 @@ POLY_OVERLAP_ENTRY(_d)
 POLY_OVERLAP_ENTRY(_f)
 POLY_OVERLAP_ENTRY(_m)
 
-int poly_overlap_nodes_d(const poly_overlap_workspace_d *ws, const poly_pose *pose_a, double *nodes, int capacity)
-{
-  if (ws->num_points > ws->capacity_points) return -1;
-  double rotation[9];
-  poly_quat_to_matrix(pose_a->quaternion, rotation);
-  for (int p = 0; p < ws->num_points && p < capacity; p++) {
-    double local[3];
-    for (int k = 0; k < 3; k++) local[k] = ws->points[3 * p + k] + ws->origin[k];
-    poly_matrix_apply(rotation, local, nodes + 3 * p);
+#define POLY_OVERLAP_NODES(SUFFIX)                                                                     \
+  int poly_overlap_nodes##SUFFIX(const poly_overlap_workspace##SUFFIX *ws, const poly_pose *pose_a,   \
+                                 double *nodes, int capacity)                                        \
+  {                                                                                                   \
+    if (ws->num_points > ws->capacity_points) return -1;                                              \
+    double rotation[9];                                                                               \
+    poly_quat_to_matrix(pose_a->quaternion, rotation);                                                \
+    for (int p = 0; p < ws->num_points && p < capacity; p++) {                                        \
+      double local[3];                                                                                \
+      for (int k = 0; k < 3; k++) local[k] = (double)ws->points[3 * p + k] + ws->origin[k];           \
+      poly_matrix_apply(rotation, local, nodes + 3 * p);                                              \
+    }                                                                                                 \
+    return ws->num_points;                                                                            \
   }
-  return ws->num_points;
-}
+
+POLY_OVERLAP_NODES(_d)
+POLY_OVERLAP_NODES(_f)

@@ -127,10 +127,11 @@ void poly_overlap_f(const poly_shape_view_f *a, const poly_pose *pose_a, const p
 void poly_overlap_m(const poly_shape_view_m *a, const poly_pose *pose_a, const poly_shape_view_m *b,
                     const poly_pose *pose_b, poly_overlap_workspace_m *ws, poly_overlap_result *result);
 
-/* The nodes of the last overlap computed with ws (by poly_overlap_d, A at pose_a): world frame, relative
- * to A's position. Writes at most `capacity` nodes (3 doubles each) and returns how many there are, or -1
- * when they did not fit in the workspace (then only the result's own depth is known). */
+/* The nodes of the last overlap computed with ws (by poly_overlap_d, A at pose_a; _f: by poly_overlap_f or _m):
+ * world frame, relative to A's position. Writes at most `capacity` nodes (3 doubles each) and returns how many
+ * there are, or -1 when they did not fit in the workspace (then only the result's own depth is known). */
 int poly_overlap_nodes_d(const poly_overlap_workspace_d *ws, const poly_pose *pose_a, double *nodes, int capacity);
+int poly_overlap_nodes_f(const poly_overlap_workspace_f *ws, const poly_pose *pose_a, double *nodes, int capacity);
 
 #ifdef __cplusplus
 }

@@ -15,7 +15,8 @@ import pytest
 
 import decks
 import meshes
-from test_walls import DENSITY, EDGE, G, check_stick_or_slide, check_wall_impact, restart_on_a_wall, scene, static_depth
+from test_walls import (DENSITY, EDGE, G, check_crosses_ranks, check_stick_or_slide, check_wall_impact, restart_on_a_wall,
+                        scene, static_depth)
 
 MASS = DENSITY * EDGE ** 3
 
@@ -194,17 +195,7 @@ def test_mesh_contact_crosses_ranks(run_deck, tmp_path):
     tilt = math.radians(35.0)
     deck = scene(mesh_wall("../floor.stl"), f"-0.008 0 {EDGE / 2}",
                  gravity=f"{math.sin(tilt)!r} 0 {-math.cos(tilt)!r}", steps=15000)
-    one = run_deck(deck, workdir=tmp_path / "one")
-    two = run_deck(deck.replace("boundary f f f\n", "processors 2 1 1\nboundary f f f\n"), nprocs=2,
-                   workdir=tmp_path / "two")
-    assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
-    a, b = one.thermo("Step", "v_x", "f_floor[4]"), two.thermo("Step", "v_x", "f_floor[4]")
-    assert a["v_x"][0] < 0 < a["v_x"][-1], a["v_x"]
-    assert all(c == 1 for c in b["f_floor[4]"][1:])
-    worst = max(abs(x - y) for x, y in zip(a["v_x"], b["v_x"]))
-    print(f"\nmesh contact across ranks: x from {a['v_x'][0]:.4f} to {a['v_x'][-1]:.4f} m, largest 1 vs 2 rank "
-          f"difference {worst:.1e} m")
-    assert worst < 1e-12, worst
+    check_crosses_ranks(run_deck, tmp_path, deck, "mesh contact")
 
 
 def flipped_grid():

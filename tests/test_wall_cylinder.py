@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import decks
-from test_walls import DENSITY, EDGE, G, POISSON, YOUNGS, scene
+from test_walls import DENSITY, EDGE, G, POISSON, YOUNGS, check_crosses_ranks, scene
 import overlap_reference as ref
 from test_overlap_geometry import SHAPES, SHIM_SOURCE, SOURCES, Library, random_quaternion
 
@@ -384,17 +384,7 @@ def test_drum_contact_crosses_ranks(run_deck, tmp_path):
     turn = math.asin(-0.005 / distance)   # the resting pose turned about the axis, to x = -5 mm
     pose = (f"{-0.005!r} {-distance * math.cos(turn)!r} 0 quat {math.cos(turn / 2)!r} 0 0 {math.sin(turn / 2)!r}")
     deck = drum_scene(pose, steps=2000) + turned_gravity(35.0, 2000) + "run 10000\n"
-    one = run_deck(deck, workdir=tmp_path / "one")
-    two = run_deck(deck.replace("boundary f f f\n", "processors 2 1 1\nboundary f f f\n"), nprocs=2,
-                   workdir=tmp_path / "two")
-    assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
-    a, b = one.thermo("Step", "v_x", "f_floor[4]"), two.thermo("Step", "v_x", "f_floor[4]")
-    assert a["v_x"][0] < 0 < a["v_x"][-1], a["v_x"]
-    assert all(c == 1 for c in b["f_floor[4]"][1:])
-    worst = max(abs(x - y) for x, y in zip(a["v_x"], b["v_x"]))
-    print(f"\ndrum contact across ranks: x from {a['v_x'][0]:.4f} to {a['v_x'][-1]:.4f} m, largest 1 vs 2 rank "
-          f"difference {worst:.1e} m")
-    assert worst < 1e-12, worst
+    check_crosses_ranks(run_deck, tmp_path, deck, "drum contact")
 
 
 @pytest.mark.parametrize("wall,message", [

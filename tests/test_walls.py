@@ -38,6 +38,23 @@ def scene(wall, pose, extra="", steps=30000, gravity="0 0 -1", dt=1e-5):
             f"timestep {dt}\n" + extra + f"run {steps}\n")
 
 
+def check_crosses_ranks(run_deck, tmp_path, deck, what):
+    """The deck on one rank and on two (processors 2 1 1): the cube moves from x < 0 to x > 0 across the
+    ranks' boundary, keeps its one wall contact throughout on two ranks, and follows the single-rank run
+    to round-off."""
+    one = run_deck(deck, workdir=tmp_path / "one")
+    two = run_deck(deck.replace("boundary f f f\n", "processors 2 1 1\nboundary f f f\n"), nprocs=2,
+                   workdir=tmp_path / "two")
+    assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
+    a, b = one.thermo("Step", "v_x", "f_floor[4]"), two.thermo("Step", "v_x", "f_floor[4]")
+    assert a["v_x"][0] < 0 < a["v_x"][-1], a["v_x"]
+    assert all(c == 1 for c in b["f_floor[4]"][1:])
+    worst = max(abs(x - y) for x, y in zip(a["v_x"], b["v_x"]))
+    print(f"\n{what} across ranks: x from {a['v_x'][0]:.4f} to {a['v_x'][-1]:.4f} m, largest 1 vs 2 rank "
+          f"difference {worst:.1e} m")
+    assert worst < 1e-12, worst
+
+
 def static_depth(mass):
     """Closed form of the law for a flat face of area A sunk by delta into a plane: V = A delta,
     F = 4/(3 sqrt(pi)) E* sqrt(V delta) = 4/(3 sqrt(pi)) E* sqrt(A) delta, with E* of the two
@@ -236,14 +253,4 @@ def test_wall_contact_crosses_ranks(run_deck, tmp_path):
     tilt = math.radians(35.0)
     deck = scene("fix floor all wall/polyhedral primitive type 2 zplane 0.0\n", f"-0.005 0 {EDGE / 2}",
                  gravity=f"{math.sin(tilt)!r} 0 {-math.cos(tilt)!r}", steps=15000)
-    one = run_deck(deck, workdir=tmp_path / "one")
-    two = run_deck(deck.replace("boundary f f f\n", "processors 2 1 1\nboundary f f f\n"), nprocs=2,
-                   workdir=tmp_path / "two")
-    assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
-    a, b = one.thermo("Step", "v_x", "v_vx", "f_floor[4]"), two.thermo("Step", "v_x", "v_vx", "f_floor[4]")
-    assert a["v_x"][0] < 0 < a["v_x"][-1], a["v_x"]  # it crossed x = 0
-    assert all(c == 1 for c in b["f_floor[4]"][1:])
-    worst = max(abs(x - y) for x, y in zip(a["v_x"], b["v_x"]))
-    print(f"\nwall contact across ranks: x from {a['v_x'][0]:.4f} to {a['v_x'][-1]:.4f} m, largest 1 vs 2 rank "
-          f"difference {worst:.1e} m")
-    assert worst < 1e-12, worst
+    check_crosses_ranks(run_deck, tmp_path, deck, "wall contact")

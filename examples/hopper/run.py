@@ -89,6 +89,22 @@ def run(command, cwd, log):
     return log, time.time() - start
 
 
+def parse_runner_arguments(p, here):
+    """The options every rocks-and-spheres example shares (jobs, skip, launchers, output, report); parses the
+    command line and makes OUT/mesh. Returns the arguments and OUT."""
+    p.add_argument("--jobs", type=int, default=2, help="run rocks and spheres side by side (2) or in turn (1)")
+    p.add_argument("--skip", choices=["rock", "spheres"], default=None, help="leave one of the runs out")
+    p.add_argument("--launcher", default=str(ROOT / "build" / "bin" / "liggghts-poly"))
+    p.add_argument("--liggghts", default=shutil.which("liggghts"))
+    p.add_argument("--out", default=str(here / "post"))
+    p.add_argument("--no-report", action="store_true")
+    a = p.parse_args()
+    a.liggghts = a.liggghts or a.launcher
+    out = pathlib.Path(a.out).resolve()
+    (out / "mesh").mkdir(parents=True, exist_ok=True)
+    return a, out
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--N", type=int, default=300)
@@ -104,16 +120,7 @@ def main():
     p.add_argument("--dt", type=float, default=1e-4)
     p.add_argument("--E", type=float, default=1e7)
     p.add_argument("--M", type=int, default=100, help="thermo output every M steps")
-    p.add_argument("--jobs", type=int, default=2, help="run rocks and spheres side by side (2) or in turn (1)")
-    p.add_argument("--skip", choices=["rock", "spheres"], default=None, help="leave one of the runs out")
-    p.add_argument("--launcher", default=str(ROOT / "build" / "bin" / "liggghts-poly"))
-    p.add_argument("--liggghts", default=shutil.which("liggghts"))
-    p.add_argument("--out", default=str(HERE / "post"))
-    p.add_argument("--no-report", action="store_true")
-    a = p.parse_args()
-    a.liggghts = a.liggghts or a.launcher
-    out = pathlib.Path(a.out).resolve()
-    (out / "mesh").mkdir(parents=True, exist_ok=True)
+    a, out = parse_runner_arguments(p, HERE)
     g = geometry(a)
     tris, _ = make_hopper.hopper(g["Do"], g["L"], g["Wt"], a.alpha, g["Hbin"])
     make_hopper.write_stl(out / "mesh" / "hopper.stl", "hopper", tris)

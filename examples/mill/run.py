@@ -21,7 +21,6 @@ import importlib.util
 import math
 import os
 import pathlib
-import shutil
 import subprocess
 import sys
 import time
@@ -93,16 +92,7 @@ def main():
     p.add_argument("--S", type=int, default=500, help="positions dumped every S steps while the mill turns")
     p.add_argument("--np", type=int, default=1,
                    help="MPI ranks of the rock run (on a busy 2-core machine 2 ranks are slower than 1)")
-    p.add_argument("--jobs", type=int, default=2, help="run rocks and spheres side by side (2) or in turn (1)")
-    p.add_argument("--skip", choices=["rock", "spheres"], default=None, help="leave one of the runs out")
-    p.add_argument("--launcher", default=str(ROOT / "build" / "bin" / "liggghts-poly"))
-    p.add_argument("--liggghts", default=shutil.which("liggghts"))
-    p.add_argument("--out", default=str(HERE / "post"))
-    p.add_argument("--no-report", action="store_true")
-    a = p.parse_args()
-    a.liggghts = a.liggghts or a.launcher
-    out = pathlib.Path(a.out).resolve()
-    (out / "mesh").mkdir(parents=True, exist_ok=True)
+    a, out = hopper_run.parse_runner_arguments(p, HERE)
     c = charge(a)
     make_mill.write_stl(out / "mesh" / "mill.stl", "mill", c["tris"])
     common = ["-var", "N", c["N"], "-var", "d", a.d, "-var", "rho", a.rho, "-var", "D", a.D, "-var", "L", a.L,

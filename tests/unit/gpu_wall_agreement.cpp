@@ -56,20 +56,6 @@ static std::vector<double> crease_mesh(double radius, int cells)
   return corners;
 }
 
-// Nodes of the last overlap of a single-precision workspace, as poly_overlap_nodes_d does for double.
-static int nodes_f(const poly_overlap_workspace_f *ws, const poly_pose *pose, double *nodes)
-{
-  if (ws->num_points > ws->capacity_points) return -1;
-  double rotation[9];
-  poly_quat_to_matrix(pose->quaternion, rotation);
-  for (int p = 0; p < ws->num_points; p++) {
-    double local[3];
-    for (int k = 0; k < 3; k++) local[k] = (double)ws->points[3 * p + k] + ws->origin[k];
-    poly_matrix_apply(rotation, local, nodes + 3 * p);
-  }
-  return ws->num_points;
-}
-
 static double seconds_since(const struct timespec &start)
 {
   struct timespec stop;
@@ -235,7 +221,7 @@ int main(int argc, char **argv)
             poly_overlap_f(&view_f, &poses[n], &prism_f, &prism_pose, &ws_f, &host);
           else
             poly_overlap_m(&view_f, &poses[n], &prism_f, &prism_pose, &ws_f, &host);
-          num_nodes = nodes_f(&ws_f, &poses[n], &nodes[0]);
+          num_nodes = poly_overlap_nodes_f(&ws_f, &poses[n], &nodes[0], ws_f.capacity_points);
         }
         host_seconds += seconds_since(start);
         const poly_overlap_result &device = gpu[p].geometry;
