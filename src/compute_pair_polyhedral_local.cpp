@@ -23,6 +23,10 @@ ComputePairPolyhedralLocal::ComputePairPolyhedralLocal(LAMMPS *lmp, int &iarg, i
   scalar_flag = 1;
   timeflag = 1;  // output schedules the steps; the pair style records contacts only then
   extscalar = 1;
+  vector_flag = 1;  // statistics of degenerate contacts, since pair_style
+  size_vector = 3;
+  extvector = 1;
+  vector = statistics;
   size_local_cols = kColumns;
   size_local_rows = 0;
   array_local = NULL;
@@ -84,6 +88,17 @@ double ComputePairPolyhedralLocal::compute_scalar()
   double mine = (double) pair->recorded_contacts().size();
   MPI_Allreduce(&mine, &scalar, 1, MPI_DOUBLE, MPI_SUM, world);
   return scalar;
+}
+
+// 1: contacts with flush faces (smoothed), 2: re-evaluated after an inconsistent
+// edge, 3: inconsistent even so; counted on every pair evaluation since the
+// pair style was defined, summed over ranks.
+void ComputePairPolyhedralLocal::compute_vector()
+{
+  invoked_vector = update->ntimestep;
+  const poly_degenerate_counts &counts = pair->degenerate_counts();
+  double mine[3] = {counts.smoothed, counts.recomputed, counts.inconsistent};
+  MPI_Allreduce(mine, statistics, 3, MPI_DOUBLE, MPI_SUM, world);
 }
 
 double ComputePairPolyhedralLocal::memory_usage()

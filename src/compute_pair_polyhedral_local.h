@@ -19,6 +19,7 @@ class ComputePairPolyhedralLocal : public Compute {
   void init();
   void compute_local();
   double compute_scalar();  // number of contacts
+  void compute_vector();    // degenerate contacts since pair_style: smoothed, re-evaluated, inconsistent
   double memory_usage();
 
   enum { kColumns = 16 };
@@ -26,6 +27,7 @@ class ComputePairPolyhedralLocal : public Compute {
  private:
   class PairPolyhedralVolumetric *pair;
   int capacity;
+  double statistics[3];
   void require_current_records();
 };
 

@@ -108,11 +108,12 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     error->all(FLERR, "Fix wall/polyhedral: wall type out of range");
 
   vector_flag = 1;
-  size_vector = 7;
+  size_vector = 10;
   global_freq = 1;
   extvector = 1;
   restart_global = 0;
-  for (int k = 0; k < 7; k++) wall_force[k] = wall_force_all[k] = 0.0;
+  for (int k = 0; k < 10; k++) wall_force[k] = wall_force_all[k] = 0.0;
+  degenerate.smoothed = degenerate.recomputed = degenerate.inconsistent = 0.0;
 
   history_id = new char[strlen(id) + 16];
   sprintf(history_id, "%s_history", id);
@@ -487,6 +488,7 @@ void FixWallPolyhedral::collect_pieces(int m)
   for (size_t c = mesh_first_candidate[m]; c < mesh_first_candidate[m + 1]; c++) {
     const poly_overlap_result &geometry = overlaps[c];
     if (!(geometry.volume > 0.0)) continue;
+    poly_degenerate_count(&degenerate, &geometry);
     int j = candidates[c].triangle;
     MeshPiece piece;
     piece.particle = candidates[c].particle;
@@ -644,11 +646,16 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) springs[i][slot + d] = 0.0;
 }
 
-// 1-3: force on the wall, 4: particle-wall contacts, 5-7: torque on the wall about the origin (summed over ranks).
+// 1-3: force on the wall, 4: particle-wall contacts, 5-7: torque on the wall about the origin; 8-10: mesh
+// pieces with flush faces, re-evaluated after an inconsistent edge, inconsistent even so, since the fix was
+// defined (summed over ranks).
 double FixWallPolyhedral::compute_vector(int n)
 {
   if (!force_summed) {
-    MPI_Allreduce(wall_force, wall_force_all, 7, MPI_DOUBLE, MPI_SUM, world);
+    wall_force[7] = degenerate.smoothed;
+    wall_force[8] = degenerate.recomputed;
+    wall_force[9] = degenerate.inconsistent;
+    MPI_Allreduce(wall_force, wall_force_all, 10, MPI_DOUBLE, MPI_SUM, world);
     force_summed = true;
   }
   return wall_force_all[n];

@@ -99,7 +99,9 @@ class FixWallPolyhedral : public Fix {
   class PairPolyhedralVolumetric *pair;
   int use_tangential, use_damping;   // this wall's switches, resolved in init()
   std::vector<poly_material_pair> materials;  // (ntypes+1)^2, read with this wall's switches
-  double wall_force[7], wall_force_all[7];  // force on the wall (3), contacts, torque on the wall (3)
+  double wall_force[10], wall_force_all[10];  // force on the wall (3), contacts, torque on the wall (3),
+                                              // then degenerate pieces since the fix was defined (3)
+  poly_degenerate_counts degenerate;
   bool force_summed;
 };
 

@@ -35,8 +35,10 @@ PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
 #else
       precision(POLY_PRECISION_DOUBLE),
 #endif
-      recording(false), records_timestep(-1), have_workspace(false), maxrad(NULL), fix_history(NULL), atom_ntypes(0)
+      recording(false), records_timestep(-1), warned_inconsistent(false), have_workspace(false), maxrad(NULL),
+      fix_history(NULL), atom_ntypes(0)
 {
+  degenerate.smoothed = degenerate.recomputed = degenerate.inconsistent = 0.0;
   single_enable = 0;
   restartinfo = 1;
   no_virial_fdotr_compute = 1;
@@ -356,6 +358,18 @@ void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result
     poly_overlap_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, &workspace_d, result);
 }
 
+// The statistics of compute pair/polyhedral/local's vector; an edge still
+// inconsistent after the re-evaluation is a wrong answer, so it is said once.
+void PairPolyhedralVolumetric::count_degenerate(const poly_overlap_result &geometry)
+{
+  poly_degenerate_count(&degenerate, &geometry);
+  if (geometry.num_inconsistent > 0 && !warned_inconsistent) {
+    warned_inconsistent = true;
+    error->warning(FLERR, "Pair polyhedral/volumetric: a contact's overlap stayed inconsistent after its "
+                          "re-evaluation (its volume may be wrong); please report the two shapes and poses");
+  }
+}
+
 void PairPolyhedralVolumetric::record_contacts(Compute *compute, bool on)
 {
   std::vector<Compute *>::iterator found = std::find(recorders.begin(), recorders.end(), compute);
@@ -410,6 +424,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
         if (si <= 0 || sj <= 0 || si >= num_shapes || sj >= num_shapes)
           error->one(FLERR, "Pair polyhedral/volumetric: a particle has a shape without template");
         overlap(i, j, &geometry);
+        count_degenerate(geometry);
         // Faces that touch exactly come out with a round-off volume (the symbolic
         // perturbation may push them together by an infinitesimal amount): below
         // 1e-12 of the smaller particle's volume an overlap is not a contact.

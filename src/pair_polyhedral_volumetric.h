@@ -48,6 +48,9 @@ class PairPolyhedralVolumetric : public Pair {
   const std::vector<PolyContactRecord> &recorded_contacts() const { return records; }
   bigint records_step() const { return records_timestep; }
 
+  // Contacts with flush faces, re-evaluated, still inconsistent, on this rank since the style was defined.
+  const poly_degenerate_counts &degenerate_counts() const { return degenerate; }
+
   // The effective materials of all type pairs (fix wall/polyhedral builds its own with its switches).
   static void material_table(class LAMMPS *lmp, const char *caller, bool with_restitution, bool with_friction,
                              std::vector<poly_material_pair> &table);
@@ -69,6 +72,9 @@ class PairPolyhedralVolumetric : public Pair {
   bool recording;               // on this step
   bigint records_timestep;
   std::vector<PolyContactRecord> records;
+  poly_degenerate_counts degenerate;
+  bool warned_inconsistent;
+  void count_degenerate(const poly_overlap_result &geometry);
 
   std::vector<poly_shape_view_d> views_d;  // indexed by shape number
   std::vector<poly_shape_view_f> views_f;

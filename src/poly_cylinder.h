@@ -298,7 +298,7 @@ POLY_INLINE void poly_cylinder_overlap(const poly_shape_view_d *shape, const dou
   const double two_pi = 2.0 * 3.14159265358979323846;
   result->volume = result->depth = result->area = result->projected_area = 0.0;
   for (int k = 0; k < 3; k++) result->centroid[k] = result->normal[k] = 0.0;
-  result->num_nodes = result->num_inconsistent = result->filtered_out = 0;
+  result->num_nodes = result->num_inconsistent = result->filtered_out = result->recomputed = result->smoothed = 0;
 
   /* Coordinates relative to (CX, CY, z of the particle's centre). */
   const double offset[3] = {position[0] - axis[0], position[1] - axis[1], 0.0};

@@ -31,7 +31,7 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
 {
   result->volume = result->depth = result->area = result->projected_area = 0.0;
   for (int k = 0; k < 3; k++) result->centroid[k] = result->normal[k] = 0.0;
-  result->num_nodes = result->num_inconsistent = result->filtered_out = 0;
+  result->num_nodes = result->num_inconsistent = result->filtered_out = result->recomputed = result->smoothed = 0;
 
   /* The plane in the body frame: n_b . y < d_b inside the wall. */
   double n[3];

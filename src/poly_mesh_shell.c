@@ -401,6 +401,8 @@ void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *
     contact->area += piece->area;
     contact->num_nodes += piece->num_nodes;
     contact->num_inconsistent += piece->num_inconsistent;
+    contact->recomputed += piece->recomputed;
+    contact->smoothed += piece->smoothed;
     for (int k = 0; k < 3; k++) {
       moment[k] += piece->volume * piece->centroid[k];
       area[k] += piece->projected_area * piece->normal[k];

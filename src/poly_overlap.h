@@ -65,6 +65,8 @@ typedef struct poly_overlap_result {
   int num_nodes;          /* intersection nodes: vertices inside the other shape + edge-face crossings */
   int num_inconsistent;   /* edges whose crossings disagreed with their end vertices (rounding); 0 normally */
   int filtered_out;       /* 1 when the half-space filter proved there is no overlap */
+  int recomputed;         /* 1 when an inconsistent edge made the pair be evaluated again without the filter */
+  int smoothed;           /* 1 when flush faces made area and normal the mean of two shifted evaluations */
 } poly_overlap_result;
 
 #define POLY_OVERLAP_DECLARE(REAL, SUFFIX)                                                            \
@@ -100,6 +102,21 @@ POLY_OVERLAP_DECLARE(float, _f)
 /* Mixed precision works on single-precision shapes and workspaces. */
 typedef poly_shape_view_f poly_shape_view_m;
 typedef poly_overlap_workspace_f poly_overlap_workspace_m;
+
+/* Running counts of the degenerate evaluations (see overlap_local in
+ * poly_overlap_impl.h), for the users' statistics of the pair style and walls. */
+typedef struct poly_degenerate_counts {
+  double smoothed;      /* contacts with flush faces, area and normal the mean of two shifted evaluations */
+  double recomputed;    /* contacts evaluated again without the filter after an inconsistent edge */
+  double inconsistent;  /* contacts with an inconsistent edge even so (a bug to report) */
+} poly_degenerate_counts;
+
+static inline void poly_degenerate_count(poly_degenerate_counts *counts, const poly_overlap_result *result)
+{
+  counts->smoothed += result->smoothed > 0;
+  counts->recomputed += result->recomputed > 0;
+  counts->inconsistent += result->num_inconsistent > 0;
+}
 
 /* Precision of the narrow phase, as the pair styles' `precision` keyword names it. */
 typedef enum poly_precision { POLY_PRECISION_DOUBLE = 0, POLY_PRECISION_SINGLE = 1, POLY_PRECISION_MIXED = 2 } poly_precision;

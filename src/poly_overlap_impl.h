@@ -67,11 +67,14 @@ typedef POLY_REAL POLY_FN(accum);
 /* Fixed generic direction of the symbolic perturbation of B (body frame of A).
  * Irrational-looking components so that no mesh normal or edge of practical
  * interest is orthogonal to it. */
+#ifndef POLY_PERTURBATION_SIGN
+#define POLY_PERTURBATION_SIGN 1 /* -1: the opposite direction (tests/test_flush_faces.py builds both) */
+#endif
 POLY_INLINE void POLY_FN(perturbation)(R *direction)
 {
-  direction[0] = (R)0.7431448254773942;
-  direction[1] = (R)0.5219894423148289;
-  direction[2] = (R)0.4186764212365043;
+  direction[0] = (R)(POLY_PERTURBATION_SIGN * 0.7431448254773942);
+  direction[1] = (R)(POLY_PERTURBATION_SIGN * 0.5219894423148289);
+  direction[2] = (R)(POLY_PERTURBATION_SIGN * 0.4186764212365043);
 }
 
 POLY_INLINE R POLY_FN(dot)(const R *a, const R *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -407,7 +410,12 @@ POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, cons
       }
     }
     int inside = my_inside[v0];
-    if (((inside + count) & 1) != my_inside[v1]) (*num_inconsistent)++;
+    if (((inside + count) & 1) != my_inside[v1]) {
+      (*num_inconsistent)++;
+#ifdef POLY_DEBUG_INCONSISTENT
+      fprintf(stderr, "inconsistent edge %d (%d,%d) of %s: in0=%d in1=%d count=%d p0=(%g %g %g) p1=(%g %g %g)\n", e, v0, v1, mine_is_b ? "B" : "A", inside, my_inside[v1], count, p0[0], p0[1], p0[2], p1[0], p1[1], p1[2]);
+#endif
+    }
     if (count == 0 && !inside) continue;
 
     R direction[3];
@@ -621,26 +629,72 @@ POLY_INLINE int POLY_FN(overlap_slab)(const POLY_FN(shape_view) *a, const POLY_F
   return high_a - low_b <= 1e-12 * ((double)a->bounding_radius + (double)b->bounding_radius);
 }
 
-/* The overlap in the local frame (body frame of A shifted to `origin`).
- * `rotation` (row-major) and `translation` take B's body frame to A's. */
-POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
-                                        const double *rotation, const double *translation,
-                                        POLY_FN(overlap_workspace) *ws, double *local_centroid,
-                                        double *local_normal, poly_overlap_result *result)
+/* What one evaluation of the boundary sums leaves: the sums, the local frame
+ * they are in, and what the caller decides on (inconsistent edges, flush faces). */
+typedef struct POLY_FN(pass) {
+  POLY_FN(accumulator) acc;
+  double origin[3];     /* of the local frame, in A's body frame */
+  double axis[3];       /* filtering direction (centre line) */
+  int num_points, num_inconsistent, filtered_out;
+  int num_kept_a, num_kept_b;
+  int flush;            /* a kept face of A and one of B lie in one plane to within the smoothing tolerance */
+} POLY_FN(pass);
+
+/* Length of the finite shift of the flush-face smoothing (see overlap_local),
+ * relative to the particles' size: far above the rounding of the local
+ * coordinates (about 1e-16 of the size in double, 6e-8 in single), far below
+ * any overlap the contact law resolves. */
+POLY_INLINE double POLY_FN(smoothing_length)(void) { return sizeof(R) == sizeof(float) ? 0x1p-16 : 0x1p-36; }
+
+/* Are triangle t of A and triangle s of B flush: every corner of each within
+ * `tolerance` of the other's plane (planes as prepare_kept_triangle stores them)? */
+POLY_INLINE int POLY_FN(triangles_flush)(const R *va, const int *ta, const R *plane_a, const R *vb, const int *tb,
+                                         const R *plane_b, R tolerance)
 {
-  result->volume = result->depth = result->area = result->projected_area = 0.0;
-  result->num_nodes = result->num_inconsistent = 0;
-  result->filtered_out = 0;
-  ws->num_points = 0;
+  R length_a = sqrt(POLY_FN(dot)(plane_a, plane_a)), length_b = sqrt(POLY_FN(dot)(plane_b, plane_b));
+  for (int k = 0; k < 3; k++) {
+    R offset[3];
+    POLY_FN(sub)(vb + 3 * tb[k], va + 3 * ta[0], offset);
+    if (fabs(POLY_FN(dot)(plane_a, offset)) > tolerance * length_a) return 0;
+    POLY_FN(sub)(va + 3 * ta[k], vb + 3 * tb[0], offset);
+    if (fabs(POLY_FN(dot)(plane_b, offset)) > tolerance * length_b) return 0;
+  }
+  return 1;
+}
+
+/* Do the triangle boxes overlap when grown by `tolerance`? */
+POLY_INLINE int POLY_FN(boxes_near)(const R *box_t, const R *box_s, R tolerance)
+{
+  for (int k = 0; k < 3; k++)
+    if (box_s[k] > box_t[3 + k] + tolerance || box_t[k] > box_s[3 + k] + tolerance) return 0;
+  return 1;
+}
+
+/* One evaluation of the boundary sums of A n B, B placed by rotation and
+ * translation in A's body frame. `use_filter` 0: every triangle, no early exit
+ * (the path no slab rounding can touch). `flush_tolerance` > 0: look for flush
+ * faces within it (relative to the particles' size). `keep_points` 0: the
+ * intersection nodes are not stored (ws->points and ws->origin are left as they are). */
+POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                       const double *rotation, const double *translation, int use_filter,
+                                       double flush_tolerance, int keep_points, POLY_FN(overlap_workspace) *ws,
+                                       POLY_FN(pass) *out)
+{
+  POLY_FN(accumulator) empty = {0, {0, 0, 0}, {0, 0, 0}, 0, {0, 0, 0}, 0};
+  out->acc = empty;
+  out->num_points = out->num_inconsistent = out->filtered_out = out->flush = 0;
+  out->num_kept_a = out->num_kept_b = 0;
+  int capacity_points = ws->capacity_points;
 
   double axis_d[3], extent_a, extent_b;
   int separated = POLY_FN(overlap_slab)(a, b, rotation, translation, axis_d, &extent_a, &extent_b);
-  if (separated && ws->use_filter) {
-    result->filtered_out = 1;
+  for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
+  if (separated && use_filter) {
+    out->filtered_out = 1;
     return;
   }
-  if (!ws->use_filter) {
-    /* Baseline for benchmarks and tests: no early exit, and a slab that holds both bodies entirely. */
+  if (!use_filter) {
+    /* No early exit, and a slab that holds both bodies entirely. */
     extent_a += 4.0 * ((double)a->bounding_radius + (double)b->bounding_radius);
     extent_b -= 4.0 * ((double)a->bounding_radius + (double)b->bounding_radius);
   }
@@ -648,10 +702,24 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
    * tetrahedra are then the size of the overlap, not of the particles. */
   double middle = 0.5 * (extent_a + extent_b);
   double origin[3] = {axis_d[0] * middle, axis_d[1] * middle, axis_d[2] * middle};
-  for (int k = 0; k < 3; k++) ws->origin[k] = origin[k];
+  for (int k = 0; k < 3; k++) out->origin[k] = origin[k];
+  if (keep_points)
+    for (int k = 0; k < 3; k++) ws->origin[k] = origin[k];
+  else
+    ws->capacity_points = 0;
   R axis[3] = {(R)axis_d[0], (R)axis_d[1], (R)axis_d[2]};
-  R limit_a = (R)(extent_b - middle); /* B lies at >= limit_a along the axis */
-  R limit_b = (R)(extent_a - middle); /* A lies at <= limit_b */
+  /* The slab tests below compare rounded projections (of rounded local
+   * coordinates, on a rounded axis) with rounded limits. A vertex or face of
+   * one body flush with the other's extreme point would be cut or kept by that
+   * rounding, not by the perturbation that decides every other predicate
+   * (a cube flush in the corner of a box lost its corner vertex: V 2/3 of the
+   * true 1). So the limits are widened by a bound on that rounding: keeping a
+   * few more triangles costs little, and the exact predicates decide them. */
+  double scale = (double)a->bounding_radius + (double)b->bounding_radius + fabs(middle);
+  double margin = 64.0 * (double)POLY_FN(epsilon)() * scale +
+                  flush_tolerance * ((double)a->bounding_radius + (double)b->bounding_radius);
+  R limit_a = (R)(extent_b - middle - margin); /* B lies at >= limit_a along the axis */
+  R limit_b = (R)(extent_a - middle + margin); /* A lies at <= limit_b */
 
   R *va = ws->vertices_a, *vb = ws->vertices_b;
   for (int i = 0; i < a->num_vertices; i++)
@@ -697,7 +765,8 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
       ws->normals_b[3 * s + k] = (R)(rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2]);
   }
   if (!num_kept_a || !num_kept_b) {
-    result->filtered_out = 1;
+    out->filtered_out = 1;
+    ws->capacity_points = capacity_points;
     return;
   }
 
@@ -742,20 +811,113 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
                             ws->kept_list_b, num_kept_b, axis, limit_a, ws, &acc, &num_points, &inconsistent);
   POLY_FN(accumulate_edges)(b, vb, ws->normals_b, ws->apex_b, ws->inside_b, 1, a, va, ws->planes_a, ws->bounds_a,
                             ws->kept_list_a, num_kept_a, axis, limit_b, ws, &acc, &num_points, &inconsistent);
+  R tolerance = (R)(flush_tolerance * ((double)a->bounding_radius + (double)b->bounding_radius));
+  int flush = 0;
   for (int m = 0; m < num_kept_a; m++) {
     int t = ws->kept_list_a[m];
     const R *box_t = ws->bounds_a + 6 * t;
     for (int n = 0; n < num_kept_b; n++) {
       int s = ws->kept_list_b[n];
-      if (!POLY_FN(boxes_overlap)(box_t, box_t + 3, ws->bounds_b + 6 * s)) continue;
+      const R *box_s = ws->bounds_b + 6 * s;
+      if (tolerance > 0 && !flush && POLY_FN(boxes_near)(box_t, box_s, tolerance))
+        flush = POLY_FN(triangles_flush)(va, a->triangles + 3 * t, ws->planes_a + 4 * t, vb, b->triangles + 3 * s,
+                                         ws->planes_b + 4 * s, tolerance);
+      if (!POLY_FN(boxes_overlap)(box_t, box_t + 3, box_s)) continue;
       POLY_FN(accumulate_triangle_pair)(a, va, ws->planes_a, a->face_normals, t, b, vb, ws->planes_b,
                                         ws->normals_b, s, ws, &acc);
     }
   }
+  out->acc = acc;
+  out->num_points = num_points;
+  out->num_inconsistent = inconsistent;
+  out->flush = flush;
+  out->num_kept_a = num_kept_a;
+  out->num_kept_b = num_kept_b;
+  ws->capacity_points = capacity_points;
+}
+
+
+/* The overlap in the local frame (body frame of A shifted to ws->origin).
+ * `rotation` (row-major) and `translation` take B's body frame to A's.
+ *
+ * Two things can make one evaluation not the answer:
+ * - Inconsistent edges (crossings that disagree with the inside state of an
+ *   edge's ends). The predicates are exact, so none should remain; if one does,
+ *   the pair is evaluated again on the path without the half-space filter
+ *   (whose slab is the only rounded decision) and result->recomputed says so.
+ * - Flush faces (a face of A in the plane of a face of B, either way round).
+ *   Volume and centroid are continuous there, but the area vector of A's
+ *   surface inside B (eq. 4.19) is not: the strip of a flush face counts
+ *   wholly or not at all, by the direction of the perturbation, and the two
+ *   one-sided limits differ (two cubes meeting head on with their side faces
+ *   flush: a normal tilted by 0.016 rad, spurious torques). Where a pass finds
+ *   flush faces, area and area vector are the mean of two evaluations with B
+ *   shifted by +h and -h along the perturbation direction, h a fixed length
+ *   (smoothing_length) of the size: the mean of the two one-sided limits, to
+ *   O(h), and a continuous function of the poses, so nearly flush faces (as
+ *   rounding of rotated poses leaves them) give the same answer. Volume,
+ *   centroid and nodes stay those of the unshifted evaluation. */
+POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                        const double *rotation, const double *translation,
+                                        POLY_FN(overlap_workspace) *ws, double *local_centroid,
+                                        double *local_normal, poly_overlap_result *result)
+{
+  result->volume = result->depth = result->area = result->projected_area = 0.0;
+  result->num_nodes = result->num_inconsistent = 0;
+  result->filtered_out = result->recomputed = result->smoothed = 0;
+  ws->num_points = 0;
+
+  double smoothing = POLY_FN(smoothing_length)() * ((double)a->bounding_radius + (double)b->bounding_radius);
+  double flush_tolerance = 4.0 * POLY_FN(smoothing_length)();
+  R u[3];
+  POLY_FN(perturbation)(u);
+  POLY_FN(pass) main_pass, shifted;
+  ACC area_normal[3] = {0, 0, 0}, area = 0;
+  /* Stages, through one call site (the GPU inlines it once): 0 the pass;
+   * 1 again without the filter; 2, 3 shifted by +h, -h; 4 the unshifted pass
+   * again, when its nodes did not fit the workspace and the shifted passes
+   * have overwritten what node_extent needs. */
+  int stage = 0, use_filter = ws->use_filter;
+  while (stage >= 0) {
+    double moved[3];
+    double shift = stage == 2 ? smoothing : (stage == 3 ? -smoothing : 0.0);
+    for (int k = 0; k < 3; k++) moved[k] = translation[k] + shift * (double)u[k];
+    int keep_points = stage < 2 || stage == 4;
+    POLY_FN(overlap_pass)(a, b, rotation, moved, stage == 1 ? 0 : use_filter, stage < 2 ? flush_tolerance : 0.0,
+                          keep_points, ws, keep_points ? &main_pass : &shifted);
+    if (stage == 0 && main_pass.num_inconsistent > 0 && use_filter) {
+      result->recomputed = 1;
+      stage = 1;
+      continue;
+    }
+    if (stage < 2) {
+      if (!main_pass.flush || !((double)main_pass.acc.volume6 > 0.0)) break;
+      result->smoothed = 1;
+      stage = 2;
+      continue;
+    }
+    if (stage == 2 || stage == 3) {
+      area += (ACC)0.5 * shifted.acc.area;
+      for (int k = 0; k < 3; k++) area_normal[k] += (ACC)0.5 * shifted.acc.area_normal[k];
+      stage = stage == 2 ? 3 : (main_pass.num_points > ws->capacity_points ? 4 : -1);
+      continue;
+    }
+    break;
+  }
+  if (result->smoothed) {
+    main_pass.acc.area = area;
+    for (int k = 0; k < 3; k++) main_pass.acc.area_normal[k] = area_normal[k];
+  }
+  POLY_FN(accumulator) acc = main_pass.acc;
+  int num_points = main_pass.num_points;
+  double origin[3] = {main_pass.origin[0], main_pass.origin[1], main_pass.origin[2]};
+  double axis_d[3] = {main_pass.axis[0], main_pass.axis[1], main_pass.axis[2]};
+  result->filtered_out = main_pass.filtered_out;
+  if (main_pass.filtered_out) return;
 
   result->num_nodes = num_points;
   ws->num_points = num_points;
-  result->num_inconsistent = inconsistent;
+  result->num_inconsistent = main_pass.num_inconsistent;
   double volume = (double)acc.volume6 / 6.0;
   if (!(volume > 0.0)) return;
   result->volume = volume;
@@ -785,9 +947,10 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   } else {
     /* More nodes than the workspace holds (very rare: long edges crossing many
      * faces): find them again rather than guess. */
-    POLY_FN(node_extent)(a, va, ws->inside_a, 0, b, vb, ws->planes_b, ws->kept_list_b, num_kept_b, local_normal, &low,
+    const R *va = ws->vertices_a, *vb = ws->vertices_b;
+    POLY_FN(node_extent)(a, va, ws->inside_a, 0, b, vb, ws->planes_b, ws->kept_list_b, main_pass.num_kept_b, local_normal, &low,
                          &high);
-    POLY_FN(node_extent)(b, vb, ws->inside_b, 1, a, va, ws->planes_a, ws->kept_list_a, num_kept_a, local_normal, &low,
+    POLY_FN(node_extent)(b, vb, ws->inside_b, 1, a, va, ws->planes_a, ws->kept_list_a, main_pass.num_kept_a, local_normal, &low,
                          &high);
   }
   result->depth = high > low ? high - low : 0.0;
