@@ -34,9 +34,26 @@ static char **base_keywords_first(int narg, char **arg)
   return &ordered[0];
 }
 
+// The smallest distance from the centre of mass to a triangle's plane, if the
+// centre is on the inner side of every one: then the ball of that radius is
+// inside the shape (from a point outside, a ray towards the shape first meets
+// a triangle whose outer side the point is on). Otherwise 0.
+static double inner_radius_of(const poly_shape &shape)
+{
+  double radius = shape.bounding_radius;
+  for (int t = 0; t < shape.num_triangles; t++) {
+    const double *normal = shape.face_normals + 3 * t;
+    const double *corner = shape.vertices + 3 * shape.triangles[3 * t];
+    double distance = normal[0] * corner[0] + normal[1] * corner[1] + normal[2] * corner[2];
+    if (!(distance > 0.0)) return 0.0;
+    if (distance < radius) radius = distance;
+  }
+  return radius;
+}
+
 FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int narg, char **arg)
     : FixTemplateSphere(lmp, narg, base_keywords_first(narg, arg)),
-      shape_index_(0), density_(0.0), scale_(1.0), file_(NULL), own_single_(NULL)
+      shape_index_(0), density_(0.0), scale_(1.0), inner_radius_(0.0), file_(NULL), own_single_(NULL)
 {
   memset(&shape_, 0, sizeof shape_);
   parse_own_keywords(narg, arg);
@@ -51,6 +68,7 @@ FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int na
              "Fix %s (id %s): shape mesh '%s' is oriented inward; its triangles were flipped", kStyle, id, file_);
     error->warning(FLERR, message);
   }
+  inner_radius_ = inner_radius_of(shape_);
 
   // Particles refer to a template by number, so a template cannot be replaced
   // in place. Modify::add_fix empties the slot of a fix being redefined
@@ -140,12 +158,18 @@ unsigned int FixParticletemplatePolyhedron::generate_hash()
 
 // Insertion through fix particledistribution/discrete and fix insert/*: the
 // particles to insert carry this template's shape; their orientation comes from
-// the insertion fix.
-void FixParticletemplatePolyhedron::fill(ParticleToInsertPolyhedron *particle, int extra_groupbit, int distorder)
+// the insertion fix. r_bound_ins is the margin by which the fix keeps sampled
+// positions from the region's surface and the sub-domain's borders: the inner
+// radius where the particles check their vertices themselves.
+void FixParticletemplatePolyhedron::fill(ParticleToInsertPolyhedron *particle, int extra_groupbit, int distorder,
+                                         const PolyhedronInsertionRules &rules)
 {
   particle->atom_type = atom_type;
+  particle->shape_template = this;
   particle->shape_index = shape_index_;
-  particle->radius_ins[0] = particle->r_bound_ins = shape_.bounding_radius;
+  particle->rules = rules;
+  particle->radius_ins[0] = shape_.bounding_radius;
+  particle->r_bound_ins = rules.vertex_margins ? inner_radius_ : shape_.bounding_radius;
   particle->density_ins = density_;
   particle->volume_ins = shape_.volume;
   particle->mass_ins = density_ * shape_.volume;
@@ -166,13 +190,15 @@ void FixParticletemplatePolyhedron::init_ptilist(int n_random_max, const bool, F
 
 void FixParticletemplatePolyhedron::randomize_single()
 {
-  fill(single_particle(), 0, 0);
+  PolyhedronInsertionRules none = {false, NULL, false};
+  fill(single_particle(), 0, 0, none);
 }
 
 void FixParticletemplatePolyhedron::randomize_ptilist(int n_random, int distribution_groupbit, int distorder)
 {
+  PolyhedronInsertionRules rules = PolyhedronInsertionRules::of_current_insertion(lmp, this);
   for (int i = 0; i < n_random; i++)
-    fill(static_cast<ParticleToInsertPolyhedron *>(pti_list[i]), distribution_groupbit, distorder);
+    fill(static_cast<ParticleToInsertPolyhedron *>(pti_list[i]), distribution_groupbit, distorder, rules);
 }
 
 void FixParticletemplatePolyhedron::direct_set_ptlist(const int, const void *const, const int, const int)

@@ -55,12 +55,14 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
   int shape_index_;
   double density_;
   double scale_;
+  double inner_radius_;  // of a ball about the centre of mass inside the shape (0 if none is found)
   char *file_;
 
   void parse_own_keywords(int narg, char **arg);
   void print_summary();
   ParticleToInsertPolyhedron *own_single_;
-  void fill(ParticleToInsertPolyhedron *particle, int extra_groupbit, int distorder);
+  void fill(ParticleToInsertPolyhedron *particle, int extra_groupbit, int distorder,
+            const PolyhedronInsertionRules &rules);
   ParticleToInsertPolyhedron *single_particle();
 };
 

@@ -55,6 +55,7 @@
 #include "fix_nve_polyhedron.h"
 #include "fix_wall_polyhedral.h"
 #include "fix_particletemplate_polyhedron.h"
+#include "liggghts_member.h"
 #include "pair_polyhedral_volumetric.h"
 #include "pair_polyhedral_volumetric_gpu.h"
 
@@ -88,9 +89,7 @@ template <typename T> Compute *create_compute(LAMMPS *lmp, int iarg, int narg, c
 template <typename T> void run_command(LAMMPS *lmp, int narg, char **arg) { T command(lmp); command.command(narg, arg); }
 
 // The creator maps are public in Force but private in Modify and protected in
-// Input. C++ lets an explicit template instantiation name a private member
-// ([temp.explicit]/12), which yields a member pointer without editing the
-// LIGGGHTS headers or relying on their layout.
+// Input; liggghts_member.h reads them.
 typedef Fix *(*FixCreator)(LAMMPS *, int, char **);
 typedef Compute *(*ComputeCreator)(LAMMPS *, int, int, char **);
 typedef void (*CommandCreator)(LAMMPS *, int, char **);
@@ -98,9 +97,6 @@ typedef std::map<std::string, FixCreator> *Modify::*FixMapMember;
 typedef std::map<std::string, ComputeCreator> *Modify::*ComputeMapMember;
 typedef std::map<std::string, CommandCreator> *Input::*CommandMapMember;
 
-template <typename Tag, typename Tag::Member member> struct ExposeMember {
-  friend typename Tag::Member exposed(Tag) { return member; }
-};
 struct FixMapTag { typedef FixMapMember Member; friend Member exposed(FixMapTag); };
 struct ComputeMapTag { typedef ComputeMapMember Member; friend Member exposed(ComputeMapTag); };
 struct CommandMapTag { typedef CommandMapMember Member; friend Member exposed(CommandMapTag); };

@@ -6,6 +6,10 @@ the particle count, the template proportions against the number fractions LIGGGH
 distribution, the mass, bounding radius and inertia of each particle from its shape, no overlapping
 pair at insertion (exact overlap volumes through compute pair/polyhedral/local), random or constant
 orientations as asked, the insertion velocity, and 1 against 2 MPI ranks.
+
+Issue 12 (insertion by the shape, not the bounding sphere): 300 particles of 1 cm^3 (cubes, rock_40) in an
+8.4 x 8.4 x 28 cm column with insert/pack all_in yes on 1 and 2 ranks, a second insert/pack around existing
+particles, and insert/stream; checked: the count, no overlapping pair, every vertex inside the region.
 """
 import math
 import re
@@ -14,20 +18,26 @@ import numpy as np
 import pytest
 
 import decks
+from test_dump_vtk import read_vtp
 
 TEMPLATES = (("t1", "rock_40.obj", 0.01), ("t2", "schoenhardt.stl", 0.012), ("t3", "cube.stl", 0.008))
 DENSITY = 2500.0
 
 
+def box(lo, hi, z_lo, z_hi, ntypes):
+    """A box with fixed walls, [lo, hi] in x and y and [z_lo, z_hi] in z, and the materials of `ntypes` types."""
+    return (decks.header(boundary="f f f", lo=lo, hi=hi, ntypes=ntypes).replace(
+                f"region box block {lo} {hi} {lo} {hi} {lo} {hi}", f"region box block {lo} {hi} {lo} {hi} {z_lo} {z_hi}") +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n"
+            f"fix m1 all property/global youngsModulus peratomtype{' 1e7' * ntypes}\n"
+            f"fix m2 all property/global poissonsRatio peratomtype{' 0.25' * ntypes}\n"
+            f"fix m3 all property/global coefficientRestitution peratomtypepair {ntypes}{' 0.5' * ntypes ** 2}\n"
+            f"fix m4 all property/global coefficientFriction peratomtypepair {ntypes}{' 0.5' * ntypes ** 2}\n")
+
+
 def scene(insertion, run="run 1\n"):
     seeds = (15485863, 32452843, 49979687)
-    return (decks.header(boundary="f f f", lo=-0.1, hi=0.1, ntypes=2).replace(
-                "region box block -0.1 0.1 -0.1 0.1 -0.1 0.1", "region box block -0.1 0.1 -0.1 0.1 0 0.6") +
-            "neighbor 0.002 bin\nneigh_modify delay 0\n"
-            "fix m1 all property/global youngsModulus peratomtype 1e7 1e7\n"
-            "fix m2 all property/global poissonsRatio peratomtype 0.25 0.25\n"
-            "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
-            "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n" +
+    return (box(-0.1, 0.1, 0, 0.6, ntypes=2) +
             "".join(decks.template(name, path, scale=scale, density=DENSITY, seed=seed)
                     for (name, path, scale), seed in zip(TEMPLATES, seeds)) +
             "fix pdd all particledistribution/discrete 15485867 3 t1 0.5 t2 0.3 t3 0.2\n"
@@ -82,7 +92,7 @@ def test_insert_pack_polydisperse_mix(run_deck):
     """2000 particles of three templates with random orientations, falling at 0.5 m/s."""
     result = run_deck(scene("fix ins all insert/pack seed 86028121 distributiontemplate pdd insert_every once "
                             "overlapcheck yes orientation random vel constant 0. 0. -0.5 all_in yes "
-                            "particles_in_region 2000 region ins\n"))
+                            "particles_in_region 2000 region ins\n", run="run 1\nrun 0\n"))
     table, expected = check_mix(result, 2000)
     log = result.output
     volumes = {int(m.group(1)): float(m.group(2)) for m in
@@ -107,9 +117,10 @@ def test_insert_pack_polydisperse_mix(run_deck):
     assert abs(body_z_world_z.mean()) < 0.1 and abs(body_z_world_z.std() - 1 / math.sqrt(3)) < 0.05
     # Inserted at 0.5 m/s downwards; one step of gravity later
     assert np.allclose(table[:, 5], -0.5, atol=1e-3)
-    # Bounding spheres do not overlap, so no contact at all after the first step.
+    # No overlap (exact volumes) where they were inserted: no contact. The insertion's messages break the thermo
+    # table of `run 1`; `run 0` prints the row of step 1.
     contacts = result.thermo("Step", "c_contacts")
-    assert contacts["c_contacts"][-1] == 0, contacts
+    assert contacts["Step"][-1] == 1 and contacts["c_contacts"][-1] == 0, contacts
 
 
 def test_orientation_constant_and_template(run_deck, tmp_path):
@@ -127,11 +138,14 @@ def test_orientation_constant_and_template(run_deck, tmp_path):
 def test_one_and_two_ranks_insert_the_same_mix(run_deck, tmp_path):
     insertion = ("fix ins all insert/pack seed 86028121 distributiontemplate pdd insert_every once overlapcheck yes "
                  "orientation random all_in yes particles_in_region 1000 region ins\n")
-    one = run_deck(scene(insertion, run="run 200\n"), workdir=tmp_path / "one")
-    two = run_deck(scene(insertion, run="run 200\n"), nprocs=2, workdir=tmp_path / "two")
+    one = run_deck(scene(insertion, run="run 200\nrun 0\n"), workdir=tmp_path / "one")
+    two = run_deck(scene(insertion, run="run 200\nrun 0\n"), nprocs=2, workdir=tmp_path / "two")
     a, _ = check_mix(one, 1000)
     b, _ = check_mix(two, 1000)
-    assert one.thermo("Step", "c_contacts")["c_contacts"][0] == two.thermo("Step", "c_contacts")["c_contacts"][0] == 0
+    # Inserted without overlap, falling together: no contact at step 200 (printed by the `run 0`).
+    for result in (one, two):
+        contacts = result.thermo("Step", "c_contacts")
+        assert contacts["Step"][-1] == 200 and contacts["c_contacts"][-1] == 0, contacts
     # Total mass within the binomial spread of the mix.
     print(f"\n1 rank: mass {a[:, 3].sum():.6g} kg, 2 ranks: {b[:, 3].sum():.6g} kg")
     assert abs(a[:, 3].sum() / b[:, 3].sum() - 1) < 0.05
@@ -150,3 +164,85 @@ def test_rate_and_stream_insertion(run_deck, tmp_path, insertion):
     result = run_deck(scene(insertion, run="run 300\n"), workdir=tmp_path)
     table, _ = check_mix(result, 150)
     assert set(table[:, 2].astype(int)) == {1, 2, 3}
+
+
+# Issue 12: a column of 300 particles of 1 cm^3, cubes of edge 1 cm and rock_40 scaled to the same volume, in an
+# 8.4 x 8.4 x 28 cm region. By bounding spheres (diameters 1.73 and 1.67 cm) insert/pack fitted about 200.
+COLUMN_LO, COLUMN_HI = np.array([0.0, 0.0, 0.0]), np.array([0.084, 0.084, 0.28])
+COLUMN_SHAPES = {"cube": ("cube.stl", 0.01), "rock_40": ("rock_40.obj", 0.0124)}
+PACK = ("fix {id} all insert/pack seed {seed} distributiontemplate pdd insert_every once overlapcheck yes "
+        "orientation random all_in yes particles_in_region {n} region column\n")
+
+
+def column(shape, insertion, run="run 1\n"):
+    """`run` inserts; a `run 0` then prints the thermo row of the insertion step (the insertion's messages break
+    the table of the run that inserts, so DeckResult.thermo does not see that row)."""
+    file, scale = COLUMN_SHAPES[shape]
+    return (box(-0.01, 0.094, -0.01, 0.29, ntypes=1) + decks.template("t1", file, scale=scale) +
+            "fix pdd all particledistribution/discrete 15485867 1 t1 1.0\n"
+            "pair_style polyhedral/volumetric\npair_coeff * *\n"
+            "region column block 0 0.084 0 0.084 0 0.28\n" + insertion +
+            "fix integrate all nve/polyhedron\ncompute contacts all pair/polyhedral/local\n"
+            "thermo_style custom step atoms c_contacts\ntimestep 1e-5\n"
+            "dump centres all custom 1 centres.txt id x y z\ndump_modify centres format \"%d %.17g %.17g %.17g\"\n"
+            "dump surfaces all polyhedron/vtk 1 surfaces_*.vtp\n" + run + "run 0\n")
+
+
+def check_column(result, count, all_in=True):
+    """`count` particles, none overlapping another (exact overlap volumes through compute pair/polyhedral/local),
+    with all_in every vertex inside the region; returns the smallest distance of a centre from the region's walls
+    over the bounding radius."""
+    assert result.returncode == 0, result.output[-3000:]
+    assert "Less insertions than requested" not in result.output
+    contacts = result.thermo("Step", "c_contacts")
+    assert contacts["c_contacts"][-1] == 0, contacts
+    step = int(contacts["Step"][-1])
+    _, _, arrays = read_vtp(result.workdir / f"surfaces_{step}.vtp")
+    assert len(set(arrays["id"].astype(int))) == count
+    points = arrays["points"]
+    if all_in:
+        assert np.all(points >= COLUMN_LO) and np.all(points <= COLUMN_HI), (points.min(axis=0), points.max(axis=0))
+    _, rows = decks.read_dump(result.workdir / "centres.txt")
+    centres = np.array(list(rows.values()))[:, 1:4]
+    radius = float(re.search(r"bounding radius ([0-9.e+-]+),", result.output).group(1))
+    return np.minimum(centres - COLUMN_LO, COLUMN_HI - centres).min() / radius
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("shape", list(COLUMN_SHAPES))
+def test_insert_pack_column_by_shape(run_deck, shape, nprocs):
+    """All 300 inserted, on 1 and 2 ranks (the column is split in z): exact overlaps, all_in by the vertices."""
+    result = run_deck(column(shape, PACK.format(id="ins", seed=86028121, n=300)), nprocs=nprocs)
+    assert "inserted 300 particle templates" in result.output
+    closest = check_column(result, 300)
+    print(f"\n{shape} on {nprocs} rank(s): 300 inserted; closest centre {closest:.2f} bounding radii from a wall")
+    # Particles touch the walls closer than their bounding spheres would let them.
+    assert closest < 0.9
+
+
+def test_insert_pack_around_existing_particles(run_deck):
+    """A second insert/pack adds 50 cubes to 250 already in the column, on 2 ranks: the existing particles (owned
+    and ghost) are found in the atom arrays with their shapes and orientations. Were their bounding spheres
+    taken instead, 11 to 13 would fit."""
+    deck = column("cube", PACK.format(id="first", seed=86028121, n=250),
+                  run="run 1\nunfix first\n" + PACK.format(id="second", seed=32452867, n=300) + "run 1\n")
+    result = run_deck(deck, nprocs=2)
+    assert "second: inserted 50 particle templates" in result.output
+    check_column(result, 300)
+
+
+def test_insert_stream_checks_exact_overlap(run_deck, tmp_path):
+    """insert/stream: 100 cubes a step into the extruded face (8.4 x 8.4 x 5 cm above the face): the particles
+    inserted in the same step are checked by their shapes. By bounding spheres 57 fitted."""
+    (tmp_path / "face.stl").write_text(
+        "solid face\n" + "".join(
+            "facet normal 0 0 1\nouter loop\n" + "".join(f"vertex {x} {y} 0.23\n" for x, y in tri) +
+            "endloop\nendfacet\n" for tri in (((0, 0), (0.084, 0.084), (0.084, 0)),
+                                                ((0, 0), (0, 0.084), (0.084, 0.084)))) +
+        "endsolid face\n")
+    insertion = ("fix face all mesh/surface file face.stl type 1\n"
+                 "fix ins all insert/stream seed 86028121 distributiontemplate pdd nparticles 100 particlerate 2000 "
+                 "overlapcheck yes orientation random vel constant 0 0 -1 insertion_face face extrude_length 0.05\n")
+    result = run_deck(column("cube", insertion), workdir=tmp_path)
+    assert "inserted 100 particle templates" in result.output
+    check_column(result, 100, all_in=False)
