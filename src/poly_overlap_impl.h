@@ -571,14 +571,18 @@ POLY_INLINE void POLY_FN(node_extent)(const POLY_FN(shape_view) *mine, const R *
 }
 
 /* For a triangle that survives the filter: its plane for the predicates
- * ((v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1), its box, and the body's box of
- * kept triangles grown to hold it. */
-POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tri, R *plane, R *bounds, R *box_low,
-                                                R *box_high)
+ * ((v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1), its box grown by `grow` (boxes
+ * only cull, so a grown box is safe; grown by the flush tolerance, the pair
+ * loop's one box test also finds flush faces a hair apart), and the body's box
+ * of kept triangles grown to hold it. */
+POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tri, R grow, R *plane, R *bounds,
+                                                R *box_low, R *box_high)
 {
   R e1[3], e2[3];
   POLY_FN(triangle_bounds)(vertices, tri, bounds, bounds + 3);
   for (int k = 0; k < 3; k++) {
+    bounds[k] -= grow;
+    bounds[3 + k] += grow;
     if (bounds[k] < box_low[k]) box_low[k] = bounds[k];
     if (bounds[3 + k] > box_high[k]) box_high[k] = bounds[3 + k];
   }
@@ -647,10 +651,15 @@ typedef struct POLY_FN(pass) {
 POLY_INLINE double POLY_FN(smoothing_length)(void) { return sizeof(R) == sizeof(float) ? 0x1p-16 : 0x1p-36; }
 
 /* Are triangle t of A and triangle s of B flush: every corner of each within
- * `tolerance` of the other's plane (planes as prepare_kept_triangle stores them)? */
-POLY_INLINE int POLY_FN(triangles_flush)(const R *va, const int *ta, const R *plane_a, const R *vb, const int *tb,
-                                         const R *plane_b, R tolerance)
+ * `tolerance` of the other's plane (planes as prepare_kept_triangle stores them)?
+ * Faces more than 0.8 degrees apart are not, unless smaller than 1e4 tolerances
+ * (the unit normals' test first: it is cheap and rejects almost every pair). */
+POLY_INLINE int POLY_FN(triangles_flush)(const R *va, const int *ta, const R *plane_a, const R *normal_a,
+                                         const R *vb, const int *tb, const R *plane_b, const R *normal_b,
+                                         R tolerance)
 {
+  R cosine = POLY_FN(dot)(normal_a, normal_b);
+  if (cosine * cosine < (R)0.9999) return 0;
   R length_a = sqrt(POLY_FN(dot)(plane_a, plane_a)), length_b = sqrt(POLY_FN(dot)(plane_b, plane_b));
   for (int k = 0; k < 3; k++) {
     R offset[3];
@@ -659,14 +668,6 @@ POLY_INLINE int POLY_FN(triangles_flush)(const R *va, const int *ta, const R *pl
     POLY_FN(sub)(va + 3 * ta[k], vb + 3 * tb[0], offset);
     if (fabs(POLY_FN(dot)(plane_b, offset)) > tolerance * length_b) return 0;
   }
-  return 1;
-}
-
-/* Do the triangle boxes overlap when grown by `tolerance`? */
-POLY_INLINE int POLY_FN(boxes_near)(const R *box_t, const R *box_s, R tolerance)
-{
-  for (int k = 0; k < 3; k++)
-    if (box_s[k] > box_t[3 + k] + tolerance || box_t[k] > box_s[3 + k] + tolerance) return 0;
   return 1;
 }
 
@@ -708,6 +709,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   else
     ws->capacity_points = 0;
   R axis[3] = {(R)axis_d[0], (R)axis_d[1], (R)axis_d[2]};
+  R tolerance = (R)(flush_tolerance * ((double)a->bounding_radius + (double)b->bounding_radius));
   /* The slab tests below compare rounded projections (of rounded local
    * coordinates, on a rounded axis) with rounded limits. A vertex or face of
    * one body flush with the other's extreme point would be cut or kept by that
@@ -746,7 +748,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     ws->apex_a[3 * t] = POLY_NO_APEX;
     if (!ws->kept_a[t]) continue;
     ws->kept_list_a[num_kept_a++] = t;
-    POLY_FN(prepare_kept_triangle)(va, tri, ws->planes_a + 4 * t, ws->bounds_a + 6 * t, box_a_low, box_a_high);
+    POLY_FN(prepare_kept_triangle)(va, tri, tolerance, ws->planes_a + 4 * t, ws->bounds_a + 6 * t, box_a_low,
+                                   box_a_high);
   }
   for (int s = 0; s < b->num_triangles; s++) {
     const int *tri = b->triangles + 3 * s;
@@ -759,7 +762,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     ws->apex_b[3 * s] = POLY_NO_APEX;
     if (!ws->kept_b[s]) continue;
     ws->kept_list_b[num_kept_b++] = s;
-    POLY_FN(prepare_kept_triangle)(vb, tri, ws->planes_b + 4 * s, ws->bounds_b + 6 * s, box_b_low, box_b_high);
+    POLY_FN(prepare_kept_triangle)(vb, tri, tolerance, ws->planes_b + 4 * s, ws->bounds_b + 6 * s, box_b_low,
+                                   box_b_high);
     const R *n = b->face_normals + 3 * s;
     for (int k = 0; k < 3; k++)
       ws->normals_b[3 * s + k] = (R)(rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2]);
@@ -811,7 +815,6 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
                             ws->kept_list_b, num_kept_b, axis, limit_a, ws, &acc, &num_points, &inconsistent);
   POLY_FN(accumulate_edges)(b, vb, ws->normals_b, ws->apex_b, ws->inside_b, 1, a, va, ws->planes_a, ws->bounds_a,
                             ws->kept_list_a, num_kept_a, axis, limit_b, ws, &acc, &num_points, &inconsistent);
-  R tolerance = (R)(flush_tolerance * ((double)a->bounding_radius + (double)b->bounding_radius));
   int flush = 0;
   for (int m = 0; m < num_kept_a; m++) {
     int t = ws->kept_list_a[m];
@@ -819,10 +822,11 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     for (int n = 0; n < num_kept_b; n++) {
       int s = ws->kept_list_b[n];
       const R *box_s = ws->bounds_b + 6 * s;
-      if (tolerance > 0 && !flush && POLY_FN(boxes_near)(box_t, box_s, tolerance))
-        flush = POLY_FN(triangles_flush)(va, a->triangles + 3 * t, ws->planes_a + 4 * t, vb, b->triangles + 3 * s,
-                                         ws->planes_b + 4 * s, tolerance);
       if (!POLY_FN(boxes_overlap)(box_t, box_t + 3, box_s)) continue;
+      if (tolerance > 0 && !flush)
+        flush = POLY_FN(triangles_flush)(va, a->triangles + 3 * t, ws->planes_a + 4 * t, a->face_normals + 3 * t, vb,
+                                         b->triangles + 3 * s, ws->planes_b + 4 * s, ws->normals_b + 3 * s,
+                                         tolerance);
       POLY_FN(accumulate_triangle_pair)(a, va, ws->planes_a, a->face_normals, t, b, vb, ws->planes_b,
                                         ws->normals_b, s, ws, &acc);
     }

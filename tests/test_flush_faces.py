@@ -304,7 +304,7 @@ def test_column_of_five_cubes_stands(run_deck, tmp_path, floor):
             "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5\n" +
             decks.template("cube", "cube.stl", scale=EDGE) + "pair_style polyhedral/volumetric\npair_coeff * *\n" +
             cubes + "fix integrate all nve/polyhedron\nfix gravity all gravity 9.81 vector 0 0 -1\n" + wall +
-            f"variable drift equal {drift}\nvariable top equal z[5]\n"
+            f"variable drift equal \"{drift}\"\nvariable top equal z[5]\n"
             "thermo_style custom step ke v_drift v_top\nthermo_modify format float %.15g\nthermo 5000\n"
             "timestep 2e-5\nrun 50000\n")
     result = run_deck(deck, workdir=tmp_path / floor)
