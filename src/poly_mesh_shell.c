@@ -110,31 +110,192 @@ static void shell_edge_outward(const double *a, const double *b, const double no
   shell_cross(edge, normal, outward);
 }
 
-/* 1 if the prism over top corners v with bottom corners b is a proper solid: the bottom faces the same way
- * as the top, and every side quad has a split (a non-convex quad only one) whose triangles face outward. */
-static int shell_prism_unfolded(const double v[3][3], const double b[3][3])
+/* The diagonal (1 or 2, as shell_split_faces_out) that splits the side quad over the top edge c -> c + 1: the one
+ * starting at the top vertex of the lower global number, so the prism across this edge splits the shared quad the
+ * same way; unless the quad folds along that diagonal (a non-convex quad), then the other, which the prism across
+ * decides alike from the same four corners. */
+static int shell_side_diagonal(const double v[3][3], const double b[3][3], const int ids[3], int c)
+{
+  int next = (c + 1) % 3;
+  int diagonal = ids[c] < ids[next] ? 1 : 2;
+  if (!shell_split_flat(v[next], v[c], b[c], b[next], diagonal)) diagonal = 3 - diagonal;
+  return diagonal;
+}
+
+/* Six times the signed volume of the tetrahedron (p, q, r, s). */
+static double shell_orient(const double *p, const double *q, const double *r, const double *s)
+{
+  double u[3], w[3], x[3], n[3];
+  shell_sub(q, p, u);
+  shell_sub(r, p, w);
+  shell_sub(s, p, x);
+  shell_cross(u, w, n);
+  return shell_dot(n, x);
+}
+
+/* The radius of the largest ball inside every face's half-space (the faces' outward planes through their corners,
+ * degenerate faces left out): > 0 if some point sees every face from inside, i.e. the solid is star-shaped about
+ * it. A linear programme in (x, r) over 8 constraints n . x + r <= d, solved by trying every 4 of them as the
+ * active set; corners relative to `centre`. */
+static double shell_kernel_radius(const double *corner[6], const int faces[8][3], const double centre[3])
+{
+  double plane[8][4], size = 0.0;
+  int count = 0;
+  for (int c = 0; c < 6; c++) {
+    double y[3];
+    shell_sub(corner[c], centre, y);
+    if (shell_dot(y, y) > size * size) size = sqrt(shell_dot(y, y));
+  }
+  for (int f = 0; f < 8; f++) {
+    double p[3][3], e1[3], e2[3], n[3];
+    for (int c = 0; c < 3; c++) shell_sub(corner[faces[f][c]], centre, p[c]);
+    if (!(shell_frame(p[0], p[1], p[2], e1, e2, n) > 0.0)) continue;
+    for (int k = 0; k < 3; k++) plane[count][k] = n[k];
+    plane[count][3] = shell_dot(n, p[0]) / 3.0 + shell_dot(n, p[1]) / 3.0 + shell_dot(n, p[2]) / 3.0;
+    count++;
+  }
+  double best = -1e300;
+  for (int i = 0; i < count; i++)
+    for (int j = i + 1; j < count; j++)
+      for (int k = j + 1; k < count; k++)
+        for (int l = k + 1; l < count; l++) {
+          const int rows[4] = {i, j, k, l};
+          double a[4][5];
+          for (int r = 0; r < 4; r++) {
+            for (int q = 0; q < 3; q++) a[r][q] = plane[rows[r]][q];
+            a[r][3] = 1.0;
+            a[r][4] = plane[rows[r]][3];
+          }
+          int singular = 0;
+          for (int col = 0; col < 4 && !singular; col++) {
+            int pivot = col;
+            for (int r = col + 1; r < 4; r++)
+              if (fabs(a[r][col]) > fabs(a[pivot][col])) pivot = r;
+            if (fabs(a[pivot][col]) < 1e-12) {
+              singular = 1;
+              break;
+            }
+            for (int q = 0; q < 5; q++) {
+              double swap = a[col][q];
+              a[col][q] = a[pivot][q];
+              a[pivot][q] = swap;
+            }
+            for (int r = 0; r < 4; r++)
+              if (r != col) {
+                double factor = a[r][col] / a[col][col];
+                for (int q = col; q < 5; q++) a[r][q] -= factor * a[col][q];
+              }
+          }
+          if (singular) continue;
+          double x[4];
+          for (int r = 0; r < 4; r++) x[r] = a[r][4] / a[r][r];
+          if (!(x[3] > best)) continue;
+          int feasible = 1;
+          for (int r = 0; r < count && feasible; r++)
+            feasible =
+                plane[r][0] * x[0] + plane[r][1] * x[1] + plane[r][2] * x[2] + x[3] <= plane[r][3] + 1e-12 * size;
+          if (feasible) best = x[3];
+        }
+  return best;
+}
+
+/* 1 if the prism's surface, split as poly_mesh_shell_prism splits it, bounds a region of winding number 0 or 1
+ * only, never -1 (no part of the prism inside out), with a margin (`margin` relative to the prism's depth). The
+ * certificate is a decomposition of the prism into tetrahedra that all turn the right way: their signed
+ * indicators sum to the prism's winding number, so it is >= 0 everywhere. First, when the three side diagonals
+ * run one way round (each from the top of one vertex to the bottom of the next: s -> m, m -> t and s -> t), the
+ * three tetrahedra (s, m, t, t'), (s, m, m', t'), (s, s', m', t'); else (a twisted prism, whose diagonals run in
+ * a cycle and which has no such decomposition, or a non-convex one) the eight cones to its faces from a point
+ * that sees every face from inside: the mean of the corners, or else the centre of the largest ball in all the
+ * faces' inner half-spaces (shell_kernel_radius). The overlap core returns nothing for a prism's inside-out part
+ * (a negative volume), so a prism that fails this drops volume while its neighbours, which reach into the region
+ * it turns over, count that region as their own. */
+static int shell_prism_certified(const double v[3][3], const double b[3][3], const int ids[3], double margin)
+{
+  const double *corner[6] = {v[0], v[1], v[2], b[0], b[1], b[2]};
+  double e1[3], e2[3], normal[3];
+  double doubled_area = shell_frame(v[0], v[1], v[2], e1, e2, normal), deepest = 0.0;
+  for (int c = 0; c < 3; c++) {
+    double d[3];
+    shell_sub(v[c], b[c], d);
+    double length = sqrt(shell_dot(d, d));
+    if (length > deepest) deepest = length;
+  }
+  const double limit = margin * doubled_area * deepest;
+  int out_degree[3] = {0, 0, 0}, in_degree[3] = {0, 0, 0};
+  int diagonals[3];
+  for (int c = 0; c < 3; c++) {
+    int next = (c + 1) % 3;
+    diagonals[c] = shell_side_diagonal(v, b, ids, c);
+    int from = diagonals[c] == 1 ? c : next, to = diagonals[c] == 1 ? next : c;
+    out_degree[from]++;
+    in_degree[to]++;
+  }
+  int s = -1, t = -1;
+  for (int c = 0; c < 3; c++) {
+    if (out_degree[c] == 2) s = c;
+    if (in_degree[c] == 2) t = c;
+  }
+  if (s >= 0 && t >= 0) {
+    int m = 3 - s - t;
+    /* +1 if (s, m, t) runs round the top as (0, 1, 2) does; the tetrahedra's signs in a straight prism follow. */
+    double parity = (m == (s + 1) % 3) ? 1.0 : -1.0;
+    if (-parity * shell_orient(corner[s], corner[m], corner[t], corner[t + 3]) > limit &&
+        parity * shell_orient(corner[s], corner[m], corner[m + 3], corner[t + 3]) > limit &&
+        -parity * shell_orient(corner[s], corner[s + 3], corner[m + 3], corner[t + 3]) > limit)
+      return 1;
+  }
+  /* The eight faces as poly_mesh_shell_prism orders them. */
+  double centre[3] = {0.0, 0.0, 0.0};
+  for (int c = 0; c < 6; c++)
+    for (int k = 0; k < 3; k++) centre[k] += corner[c][k] / 6.0;
+  int faces[8][3] = {{0, 1, 2}, {3, 5, 4}}, count = 2;
+  for (int c = 0; c < 3; c++) {
+    int a = c, n = (c + 1) % 3;
+    if (diagonals[c] == 1) {
+      faces[count][0] = n, faces[count][1] = a, faces[count][2] = n + 3, count++;
+      faces[count][0] = a, faces[count][1] = a + 3, faces[count][2] = n + 3, count++;
+    } else {
+      faces[count][0] = n, faces[count][1] = a, faces[count][2] = a + 3, count++;
+      faces[count][0] = n, faces[count][1] = a + 3, faces[count][2] = n + 3, count++;
+    }
+  }
+  int seen = 1;
+  for (int f = 0; f < 8 && seen; f++)
+    seen = -shell_orient(corner[faces[f][0]], corner[faces[f][1]], corner[faces[f][2]], centre) > limit;
+  return seen || shell_kernel_radius(corner, (const int (*)[3])faces, centre) > margin * deepest;
+}
+
+enum { SHELL_PRISM_PROPER = 0, SHELL_PRISM_FOLDED = 1, SHELL_PRISM_INSIDE_OUT = 2 };
+
+/* SHELL_PRISM_PROPER if the prism over top corners v with bottom corners b is a proper solid: the bottom faces
+ * the same way as the top and every side quad has a split (a non-convex quad only one) whose triangles face
+ * outward (else SHELL_PRISM_FOLDED), and the prism as split is nowhere inside out (shell_prism_certified,
+ * tetrahedra at least `margin` in volume; else SHELL_PRISM_INSIDE_OUT). */
+static int shell_prism_state(const double v[3][3], const double b[3][3], const int ids[3], double margin)
 {
   double e1[3], e2[3], normal[3], bottom_e1[3], bottom_e2[3], bottom[3];
   shell_frame(v[0], v[1], v[2], e1, e2, normal);
   shell_sub(b[1], b[0], bottom_e1);
   shell_sub(b[2], b[0], bottom_e2);
   shell_cross(bottom_e1, bottom_e2, bottom);
-  if (!(shell_dot(bottom, normal) > 0.0)) return 0;
+  if (!(shell_dot(bottom, normal) > 0.0)) return SHELL_PRISM_FOLDED;
   for (int c = 0; c < 3; c++) {
     int next = (c + 1) % 3;
     double outward[3];
     shell_edge_outward(v[c], v[next], normal, outward);
     if (!shell_split_faces_out(v[next], v[c], b[c], b[next], outward, 1) &&
         !shell_split_faces_out(v[next], v[c], b[c], b[next], outward, 2))
-      return 0;
+      return SHELL_PRISM_FOLDED;
   }
-  return 1;
+  return shell_prism_certified(v, b, ids, margin) ? SHELL_PRISM_PROPER : SHELL_PRISM_INSIDE_OUT;
 }
 
-/* Triangle t's top and bottom corners at the vertex depths during the build; 1 if its prism is unfolded. */
-static int shell_build_prism_unfolded(const poly_mesh_shell *shell, const double *corners,
-                                      const double *vertex_directions, const double *depth, int t, double v[3][3],
-                                      double b[3][3])
+/* Triangle t's top and bottom corners at the vertex depths during the build, and its prism's state (with a
+ * margin, so that the same prism moved rigidly, rounded differently, is still proper). */
+static int shell_build_prism_state(const poly_mesh_shell *shell, const double *corners,
+                                   const double *vertex_directions, const double *depth, int t, double v[3][3],
+                                   double b[3][3])
 {
   const int *ids = shell->vertex_ids + 3 * t;
   for (int c = 0; c < 3; c++)
@@ -142,7 +303,7 @@ static int shell_build_prism_unfolded(const poly_mesh_shell *shell, const double
       v[c][k] = corners[9 * t + 3 * c + k];
       b[c][k] = v[c][k] - shell->thickness * depth[ids[c]] * vertex_directions[3 * ids[c] + k];
     }
-  return shell_prism_unfolded((const double (*)[3])v, (const double (*)[3])b);
+  return shell_prism_state((const double (*)[3])v, (const double (*)[3])b, ids, 1e-9);
 }
 
 /* Vertex depths (fractions of h): shrunk where a triangle's full-depth prism folds, until none does. */
@@ -155,14 +316,29 @@ static void shell_limit_depths(poly_mesh_shell *shell, const double *corners, co
     for (int t = 0; t < shell->num_triangles; t++) {
       double v[3][3], b[3][3];
       const int *ids = shell->vertex_ids + 3 * t;
-      if (shell_build_prism_unfolded(shell, corners, vertex_directions, depth, t, v, b)) continue;
-      /* Corners whose direction leans away from the face normal push the bottom sideways: they give
-       * way most. The others give a little too, which also ends exact coincidences (a bottom corner
-       * on the line of a side quad's diagonal) that no shrinking of the leaning corners alone ends. */
-      double e1[3], e2[3], normal[3];
-      shell_frame(v[0], v[1], v[2], e1, e2, normal);
-      for (int c = 0; c < 3; c++)
-        depth[ids[c]] *= shell_dot(vertex_directions + 3 * ids[c], normal) < 1.0 - 1e-9 ? 0.9 : 0.97;
+      int state = shell_build_prism_state(shell, corners, vertex_directions, depth, t, v, b);
+      if (state == SHELL_PRISM_PROPER) continue;
+      if (state == SHELL_PRISM_FOLDED) {
+        /* Corners whose direction leans away from the face normal push the bottom sideways: they give
+         * way most. The others give a little too, which also ends exact coincidences (a bottom corner
+         * on the line of a side quad's diagonal) that no shrinking of the leaning corners alone ends. */
+        double e1[3], e2[3], normal[3];
+        shell_frame(v[0], v[1], v[2], e1, e2, normal);
+        for (int c = 0; c < 3; c++)
+          depth[ids[c]] *= shell_dot(vertex_directions + 3 * ids[c], normal) < 1.0 - 1e-9 ? 0.9 : 0.97;
+      } else {
+        /* Inside out: the corner that reaches deepest behind the triangle gives way (next to a sharp
+         * convex edge, a corner one cell from the edge goes back along its own face's normal, past the
+         * edge's bisecting plane, where the corners on the edge, already shrunk, go back along it). */
+        double e1[3], e2[3], normal[3], behind[3], deepest = 0.0;
+        shell_frame(v[0], v[1], v[2], e1, e2, normal);
+        for (int c = 0; c < 3; c++) {
+          behind[c] = depth[ids[c]] * shell_dot(vertex_directions + 3 * ids[c], normal);
+          if (behind[c] > deepest) deepest = behind[c];
+        }
+        for (int c = 0; c < 3; c++)
+          if (behind[c] >= (1.0 - 1e-9) * deepest) depth[ids[c]] *= 0.9;
+      }
       changed = 1;
     }
     if (!changed) break;
@@ -173,7 +349,8 @@ static void shell_limit_depths(poly_mesh_shell *shell, const double *corners, co
   shell->num_folded = 0;
   for (int t = 0; t < shell->num_triangles; t++) {
     double v[3][3], b[3][3];
-    shell->num_folded += !shell_build_prism_unfolded(shell, corners, vertex_directions, depth, t, v, b);
+    shell->num_folded +=
+        shell_build_prism_state(shell, corners, vertex_directions, depth, t, v, b) != SHELL_PRISM_PROPER;
   }
 }
 
@@ -318,10 +495,9 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
       corner[c + 3][k] = nodes[c][k] - thickness * m;
     }
   }
-  {
-    const double (*top)[3] = (const double (*)[3])corner, (*bottom)[3] = (const double (*)[3])(corner + 3);
-    if (!shell_prism_unfolded(top, bottom)) return -1;
-  }
+  const int *ids = shell->vertex_ids + 3 * triangle;
+  const double (*top)[3] = (const double (*)[3])corner, (*bottom)[3] = (const double (*)[3])(corner + 3);
+  if (shell_prism_state(top, bottom, ids, 0.0) != SHELL_PRISM_PROPER) return -1;
   for (int k = 0; k < 3; k++) {
     double sum = 0.0;
     for (int c = 0; c < 6; c++) sum += corner[c][k];
@@ -335,17 +511,12 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
     if (r2 > radius2) radius2 = r2;
   }
 
-  const int *ids = shell->vertex_ids + 3 * triangle;
   int count = 0;
   count = prism_add_triangle(prism->triangles, count, 0, 1, 2);
   count = prism_add_triangle(prism->triangles, count, 3, 5, 4);
   for (int c = 0; c < 3; c++) {
     int a = c, b = (c + 1) % 3;
-    /* The diagonal starts at the top vertex of the lower global number, so the prism across this edge
-     * splits the shared quad the same way; unless the quad folds along that diagonal (a non-convex
-     * quad), then the other, which the prism across decides alike from the same four corners. */
-    int diagonal = ids[a] < ids[b] ? 1 : 2;
-    if (!shell_split_flat(corner[b], corner[a], corner[a + 3], corner[b + 3], diagonal)) diagonal = 3 - diagonal;
+    int diagonal = shell_side_diagonal(top, bottom, ids, c);
     if (diagonal == 1) {
       count = prism_add_triangle(prism->triangles, count, b, a, b + 3);
       count = prism_add_triangle(prism->triangles, count, a, a + 3, b + 3);

@@ -18,9 +18,17 @@
  * thickness h; at a sharp convex edge it reaches h cos(theta/2) behind the edge
  * (theta the angle between the face normals) instead of h. Where triangles
  * next to a sharp edge are narrower than the shell is thick, a full-depth
- * prism would fold over itself; there the vertices' depths shrink (shared by
- * all the triangles around a vertex, so prisms still meet face to face) until
- * every prism is a proper solid.
+ * prism would fold over itself or turn inside out; there the vertices' depths
+ * shrink (shared by all the triangles around a vertex, so prisms still meet
+ * face to face) until every prism is a proper solid: its bottom facing the way
+ * its top does, its side quads facing outward, and, certified by a
+ * decomposition into tetrahedra that all turn the right way, nowhere inside
+ * out. (The prisms' winding numbers always sum to 1 in the shell, shared faces
+ * cancelling; but the overlap core returns nothing for a prism's inside-out
+ * part while its neighbours count the region it turns over.) Behind such an
+ * edge the shell is then exact only as deep as the edge's shrunk vertices
+ * reach behind the faces (about a cell's width, less near the mesh's border):
+ * deeper, the two faces' prisms overlap (doc/fix_wall_polyhedral.md).
  *
  * Vertex directions are stored per triangle corner as coefficients (a, b, c) of
  * m = a (v1 - v0) + b (v2 - v0) + c n in the triangle's own frame, so they
