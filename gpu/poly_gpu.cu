@@ -135,6 +135,7 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
     WorkspaceMemory<LocalBytes> memory;
     typename N::Workspace ws;
     N::layout(&ws, memory.get(scratch, local, bytes_per_thread), shapes.max_vertices, shapes.max_triangles);
+    ws.want_second_moment = settings.rocking;
     typename N::View a = N::view(shapes, body_i.shape), b = N::view(shapes, body_j.shape);
     N::overlap(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
   }
@@ -154,6 +155,8 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
   poly_matrix_apply(rotation_i, local_centroid, input.centroid);
   poly_matrix_apply(rotation_i, local_normal, input.normal);
   for (int k = 0; k < 3; k++) input.centroid[k] += state_i.position[k];
+  poly_second_moment_rotate(rotation_i, geometry.second_moment, input.second_moment);
+  input.couples = 1;
   poly_contact_input_set_bodies(&input, state_i.position, state_i.velocity, state_i.omega, body_i.mass,
                                 state_j.position, state_j.velocity, state_j.omega, body_j.mass, settings.dt);
   double scratch_history[POLY_HISTORY_SIZE];

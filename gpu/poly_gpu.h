@@ -66,6 +66,7 @@ typedef struct poly_gpu_motion {
 typedef struct poly_gpu_settings {
   int precision;                 /* poly_precision: double, single or mixed */
   int tangential, damping;       /* the pair style's switches */
+  int rocking;                   /* rocking damping: the overlaps' second moments go to the contact law */
   int advance_history;           /* 0 in set-up force evaluations */
   double dt;
 } poly_gpu_settings;

@@ -71,6 +71,7 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
   WorkspaceMemory<LocalBytes> memory;
   typename N::Workspace ws;
   N::layout(&ws, memory.get(scratch, local, bytes_per_thread), max_vertices, max_triangles);
+  ws.want_second_moment = 1;  // the host drops it when the wall's rocking damping is off
   typename N::View particle = N::view(shapes, piece.shape);
   N::overlap(&particle, &prism, rotation, translation, &ws, local_centroid, local_normal, &out.geometry);
   if (out.geometry.volume > 0.0) {
@@ -78,6 +79,9 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
     poly_matrix_apply(rotation_a, local_centroid, out.geometry.centroid);
     for (int k = 0; k < 3; k++) out.geometry.centroid[k] += piece.position[k];
     poly_matrix_apply(rotation_a, local_normal, out.geometry.normal);
+    double local_second[6];
+    for (int e = 0; e < 6; e++) local_second[e] = out.geometry.second_moment[e];
+    poly_second_moment_rotate(rotation_a, local_second, out.geometry.second_moment);
     int num_points = ws.num_points;
     if (num_points <= ws.capacity_points) {
       int start = atomicAdd(node_count, num_points);

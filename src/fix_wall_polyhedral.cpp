@@ -27,12 +27,13 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-// fix ID group wall/polyhedral [tangential history|off] [damping on|off] [thickness H] [sagitta S]
+// fix ID group wall/polyhedral [tangential history|off] [damping on|off] [rocking_damping on|off] [thickness H]
+//     [sagitta S]
 //     primitive type T xplane|yplane|zplane POS  |  primitive type T zcylinder R CX CY  |  mesh n_meshes K meshes MESH-ID ...
 FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
       sagitta(1e-6), thickness(0.0), shell_thickness(0.0),
-      have_workspace(false), gpu_precision(-1), tangential(-1), damping(-1), history_id(NULL), history(NULL), pair(NULL),
+      have_workspace(false), gpu_precision(-1), tangential(-1), damping(-1), rocking(-1), history_id(NULL), history(NULL), pair(NULL),
       force_summed(false)
 {
   if (strcmp(atom->atom_style, "polyhedron") != 0) error->all(FLERR, "Fix wall/polyhedral requires atom_style polyhedron");
@@ -40,9 +41,10 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
   int iarg = 3;
   while (iarg < narg) {
     const char *key = arg[iarg];
-    if ((strcmp(key, "tangential") == 0 || strcmp(key, "damping") == 0) && iarg + 1 < narg) {
+    if ((strcmp(key, "tangential") == 0 || strcmp(key, "damping") == 0 || strcmp(key, "rocking_damping") == 0) &&
+        iarg + 1 < narg) {
       const char *value = arg[iarg + 1];
-      int *flag = strcmp(key, "tangential") == 0 ? &tangential : &damping;
+      int *flag = strcmp(key, "tangential") == 0 ? &tangential : (strcmp(key, "damping") == 0 ? &damping : &rocking);
       const char *on = flag == &tangential ? "history" : "on", *off = "off";
       if (strcmp(value, on) == 0) *flag = 1;
       else if (strcmp(value, off) == 0) *flag = 0;
@@ -96,7 +98,8 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     } else {
       char message[256];
       snprintf(message, sizeof message,
-               "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, thickness, sagitta, primitive, mesh)", key);
+               "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, rocking_damping, thickness, sagitta, "
+               "primitive, mesh)", key);
       error->all(FLERR, message);
     }
   }
@@ -200,6 +203,7 @@ void FixWallPolyhedral::init()
   // The wall's own switches decide which materials it needs, whatever the pair style's are.
   use_tangential = tangential < 0 ? pair->tangential_history_on() : tangential;
   use_damping = damping < 0 ? pair->damping_on() : damping;
+  use_rocking = use_damping && (rocking < 0 ? pair->rocking_damping_on() : rocking);
   PairPolyhedralVolumetric::material_table(lmp, style, use_damping, use_tangential, materials);
   // With the /gpu pair style the meshes' overlaps run on its GPU, in its precision.
   gpu_precision = dynamic_cast<PairPolyhedralVolumetricGPU *>(pair) ? pair->narrow_precision() : -1;
@@ -342,15 +346,18 @@ void FixWallPolyhedral::post_force(int)
 // adds force and torque to the particle and the force to the wall's total. Returns the force on the particle.
 void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, bool advance_history, double volume,
                                       double depth, const double *normal, const double *centroid,
-                                      const double *wall_velocity, double *force_on_particle)
+                                      const double *second_moment, const double *wall_velocity,
+                                      const double *wall_omega, bool couples, double *force_on_particle,
+                                      double *pressure_shift)
 {
   double **x = atom->x, **v = atom->v, **omega = atom->omega, **f = atom->f, **torque = atom->torque;
-  const double zero[3] = {0.0, 0.0, 0.0};
   poly_contact_input input;
   poly_contact_input_set_geometry(&input, volume, depth, normal, centroid);
+  if (use_rocking) poly_contact_input_set_second_moment(&input, second_moment);
+  input.couples = couples;
   // The wall: infinite mass (0), its "position" the contact point.
-  poly_contact_input_set_bodies(&input, x[i], v[i], omega[i], atom->rmass[i], centroid, wall_velocity, zero, 0.0,
-                                update->dt);
+  poly_contact_input_set_bodies(&input, x[i], v[i], omega[i], atom->rmass[i], centroid, wall_velocity, wall_omega,
+                                0.0, update->dt);
   double scratch[POLY_HISTORY_SIZE];
   double *law_history = spring;
   if (!advance_history) {
@@ -365,6 +372,7 @@ void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, b
     torque[i][k] += out.torque_i[k];
     wall_force[k] += out.force_j[k];
     force_on_particle[k] = -out.force_j[k];
+    pressure_shift[k] = out.pressure_shift[k];
   }
   wall_force[3] += 1.0;
   // Torque on the wall about the origin: minus the torque the contact puts on the particle.
@@ -414,9 +422,9 @@ void FixWallPolyhedral::apply_primitive(bool advance_history)
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) spring[d] = 0.0;
       continue;
     }
-    double force[3];
+    double force[3], shift[3];
     apply_contact(i, wall_type, spring, advance_history, geometry.volume, geometry.depth, geometry.normal,
-                  geometry.centroid, zero, force);
+                  geometry.centroid, geometry.second_moment, zero, zero, true, force, shift);
   }
 }
 
@@ -477,6 +485,42 @@ void FixWallPolyhedral::gather_candidates(int m)
   }
 }
 
+// The angular velocity of a triangle moving rigidly, from its corners' velocities: the least-squares solution
+// of (x_b - x_a) x Omega = v_a - v_b over its three edges, exact for a rigid motion (fix move/mesh), and 0 for
+// a translation.
+static void triangle_angular_velocity(const double corners[3][3], double **velocities, double omega[3])
+{
+  double matrix[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, right[3] = {0, 0, 0};
+  for (int a = 0; a < 3; a++) {
+    int b = (a + 1) % 3;
+    double e[3], w[3];
+    for (int k = 0; k < 3; k++) {
+      e[k] = corners[b][k] - corners[a][k];
+      w[k] = velocities[b][k] - velocities[a][k];  // = Omega x e
+    }
+    double length2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+    // normal equations: sum (|e|^2 I - e e^T) Omega = sum e x w
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) matrix[3 * r + c] += (r == c ? length2 : 0.0) - e[r] * e[c];
+    right[0] += e[1] * w[2] - e[2] * w[1];
+    right[1] += e[2] * w[0] - e[0] * w[2];
+    right[2] += e[0] * w[1] - e[1] * w[0];
+  }
+  double det = matrix[0] * (matrix[4] * matrix[8] - matrix[5] * matrix[7]) -
+               matrix[1] * (matrix[3] * matrix[8] - matrix[5] * matrix[6]) +
+               matrix[2] * (matrix[3] * matrix[7] - matrix[4] * matrix[6]);
+  for (int k = 0; k < 3; k++) omega[k] = 0.0;
+  if (!(fabs(det) > 0.0)) return;
+  for (int k = 0; k < 3; k++) {
+    double column[9];
+    for (int q = 0; q < 9; q++) column[q] = matrix[q];
+    for (int r = 0; r < 3; r++) column[3 * r + k] = right[r];
+    omega[k] = (column[0] * (column[4] * column[8] - column[5] * column[7]) -
+                column[1] * (column[3] * column[8] - column[5] * column[6]) +
+                column[2] * (column[3] * column[7] - column[4] * column[6])) / det;
+  }
+}
+
 // Mesh m's pieces: its candidates that overlap, with the wall's velocity at each piece's centroid.
 void FixWallPolyhedral::collect_pieces(int m)
 {
@@ -497,7 +541,7 @@ void FixWallPolyhedral::collect_pieces(int m)
     piece.geometry = geometry;
     piece.first_node = overlap_first_node[c];
     piece.num_nodes = overlap_num_nodes[c];
-    for (int k = 0; k < 3; k++) piece.wall_velocity[k] = 0.0;
+    for (int k = 0; k < 3; k++) piece.wall_velocity[k] = piece.wall_omega[k] = 0.0;
     if (vertex_velocity) {
       // Barycentric coordinates of the centroid's foot on the triangle's plane (exact for rigid motions within
       // the plane; the offset along the normal is of the order of the overlap depth).
@@ -516,6 +560,7 @@ void FixWallPolyhedral::collect_pieces(int m)
       for (int k = 0; k < 3; k++)
         piece.wall_velocity[k] = b0 * vertex_velocity[j][0][k] + b1 * vertex_velocity[j][1][k] +
                                  b2 * vertex_velocity[j][2][k];
+      triangle_angular_velocity(corners, vertex_velocity[j], piece.wall_omega);
     }
     pieces.push_back(piece);
   }
@@ -571,6 +616,7 @@ void FixWallPolyhedral::compute_overlaps()
     poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
     poly_pose particle_pose = {{x[i][0], x[i][1], x[i][2]},
                                {quaternion[i][0], quaternion[i][1], quaternion[i][2], quaternion[i][3]}};
+    workspace.want_second_moment = use_rocking;
     poly_overlap_d(&pair->shape_view(shapetype[i]), &particle_pose, &prism.view, &prism_pose, &workspace,
                    &overlaps[c]);
     if (!(overlaps[c].volume > 0.0) || workspace.num_points > workspace.capacity_points) continue;
@@ -606,36 +652,43 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
     particle_pieces.clear();
     piece_first_node.clear();
     piece_num_nodes.clear();
-    double velocity[3] = {0, 0, 0};
+    double velocity[3] = {0, 0, 0}, spin[3] = {0, 0, 0};
     for (size_t p = first; p <= last; p++) {
       const MeshPiece &piece = pieces[p];
       particle_pieces.push_back(piece.geometry);
       piece_first_node.push_back(piece.first_node);
       piece_num_nodes.push_back(piece.num_nodes);
-      for (int k = 0; k < 3; k++) velocity[k] += piece.geometry.volume * piece.wall_velocity[k];
+      for (int k = 0; k < 3; k++) {
+        velocity[k] += piece.geometry.volume * piece.wall_velocity[k];
+        spin[k] += piece.geometry.volume * piece.wall_omega[k];
+      }
     }
     poly_overlap_result contact;
     poly_mesh_contact_combine(&particle_pieces[0], nodes.empty() ? NULL : &nodes[0], &piece_first_node[0],
                               &piece_num_nodes[0], (int)particle_pieces.size(), &contact);
     double volume = contact.volume;
-    for (int k = 0; k < 3; k++) velocity[k] /= volume;
+    for (int k = 0; k < 3; k++) {
+      velocity[k] /= volume;
+      spin[k] /= volume;
+    }
     size_t begin = first;
     first = last + 1;
     if (!(volume > 1e-12 * atom->rmass[i] / atom->density[i]) || !(contact.depth > 0.0)) continue;
     touching[i] = 1;
-    double force[3];
+    double force[3], shift[3];
     FixMeshSurface *mesh = meshes[m];
     apply_contact(i, mesh->atomTypeWall(), springs[i] + slot, advance_history, volume, contact.depth, contact.normal,
-                  contact.centroid, velocity, force);
+                  contact.centroid, contact.second_moment, velocity, spin, false, force, shift);
     if (!advance_history) continue;
-    // Each triangle carries its share of the force, by volume, at its piece's centroid (so the torque on the
-    // mesh sums to the whole force at the contact centroid); LIGGGHTS' stress module turns the sign.
+    // Each triangle carries its share of the force, by volume, at its piece's centroid moved by the centre of
+    // pressure's shift (so the torque on the mesh sums to the whole force at the contact's centre of pressure,
+    // as on the particle); LIGGGHTS' stress module turns the sign.
     for (size_t p = begin; p <= last; p++) {
       MeshPiece &piece = pieces[p];
       double share = piece.geometry.volume / volume, on_particle[3], arm[3];
       for (int k = 0; k < 3; k++) {
         on_particle[k] = share * force[k];
-        arm[k] = piece.geometry.centroid[k] - atom->x[i][k];
+        arm[k] = piece.geometry.centroid[k] + shift[k] - atom->x[i][k];
       }
       mesh->add_particle_contribution(i, on_particle, arm, piece.triangle, piece.wall_velocity);
     }

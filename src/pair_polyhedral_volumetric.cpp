@@ -30,6 +30,7 @@ static const double kHertzFraction = 0.1;
 
 PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
     : Pair(lmp), computeflag(0), listgranhistory(NULL), tangential_history(true), damping(true),
+      rocking_damping(true),
 #ifdef POLY_SINGLE_PRECISION
       precision(POLY_PRECISION_SINGLE),
 #else
@@ -67,7 +68,8 @@ void PairPolyhedralVolumetric::allocate()
     for (int j = 0; j <= n; j++) setflag[i][j] = 0;
 }
 
-// pair_style polyhedral/volumetric [tangential history|off] [damping on|off] [precision double|single|mixed]
+// pair_style polyhedral/volumetric [tangential history|off] [damping on|off] [rocking_damping on|off]
+//     [precision double|single|mixed]
 void PairPolyhedralVolumetric::settings(int narg, char **arg)
 {
   for (int iarg = 0; iarg < narg; iarg += 2) {
@@ -84,6 +86,9 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
     } else if (strcmp(key, "damping") == 0) {
       ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
       damping = strcmp(value, "on") == 0;
+    } else if (strcmp(key, "rocking_damping") == 0) {
+      ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
+      rocking_damping = strcmp(value, "on") == 0;
     } else if (strcmp(key, "precision") == 0) {
       ok = strcmp(value, "double") == 0 || strcmp(value, "single") == 0 || strcmp(value, "mixed") == 0;
       precision = strcmp(value, "single") == 0  ? POLY_PRECISION_SINGLE
@@ -92,7 +97,8 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
     } else {
       char message[256];
       snprintf(message, sizeof message,
-               "Pair polyhedral/volumetric: unknown keyword '%s' (tangential, damping, precision)", key);
+               "Pair polyhedral/volumetric: unknown keyword '%s' (tangential, damping, rocking_damping, precision)",
+               key);
       error->all(FLERR, message);
     }
     if (!ok) {
@@ -350,6 +356,7 @@ void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result
     pose_j.quaternion[k] = atom->quaternion[j][k];
   }
   int si = atom->shapetype[i], sj = atom->shapetype[j];
+  workspace_d.want_second_moment = workspace_f.want_second_moment = damping && rocking_damping;
   if (precision == POLY_PRECISION_SINGLE)
     poly_overlap_f(&views_f[si], &pose_i, &views_f[sj], &pose_j, &workspace_f, result);
   else if (precision == POLY_PRECISION_MIXED)
@@ -444,6 +451,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
 
       poly_contact_input input;
       poly_contact_input_set_geometry(&input, geometry.volume, geometry.depth, geometry.normal, geometry.centroid);
+      poly_contact_input_set_second_moment(&input, geometry.second_moment);
       poly_contact_input_set_bodies(&input, x[i], v[i], omega[i], rmass[i], x[j], v[j], omega[j], rmass[j],
                                     update->dt);
       double scratch[POLY_HISTORY_SIZE] = {0.0, 0.0, 0.0, 0.0, 0.0};
@@ -519,18 +527,19 @@ void PairPolyhedralVolumetric::read_restart(FILE *fp, const int major, const int
 
 void PairPolyhedralVolumetric::write_restart_settings(FILE *fp)
 {
-  int flags[3] = {tangential_history, damping, precision};
-  fwrite(flags, sizeof(int), 3, fp);
+  int flags[4] = {tangential_history, damping, precision, rocking_damping};
+  fwrite(flags, sizeof(int), 4, fp);
 }
 
 void PairPolyhedralVolumetric::read_restart_settings(FILE *fp, const int, const int)
 {
-  int flags[3];
-  if (comm->me == 0 && fread(flags, sizeof(int), 3, fp) != 3) error->one(FLERR, "Pair polyhedral/volumetric: truncated restart file");
-  MPI_Bcast(flags, 3, MPI_INT, 0, world);
+  int flags[4];
+  if (comm->me == 0 && fread(flags, sizeof(int), 4, fp) != 4) error->one(FLERR, "Pair polyhedral/volumetric: truncated restart file");
+  MPI_Bcast(flags, 4, MPI_INT, 0, world);
   tangential_history = flags[0];
   damping = flags[1];
   precision = flags[2];
+  rocking_damping = flags[3];
 }
 
 double PairPolyhedralVolumetric::memory_usage()

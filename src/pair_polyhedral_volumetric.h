@@ -59,6 +59,7 @@ class PairPolyhedralVolumetric : public Pair {
   const poly_shape_view_d &shape_view(int shapetype) const { return views_d[shapetype]; }
   bool tangential_history_on() const { return tangential_history; }
   bool damping_on() const { return damping; }
+  bool rocking_damping_on() const { return rocking_damping; }
   int narrow_precision() const { return precision; }  // poly_precision
 
   // Called by the contact-history fix before LIGGGHTS reads the history in the
@@ -66,7 +67,7 @@ class PairPolyhedralVolumetric : public Pair {
   virtual void history_to_host() {}
 
  protected:
-  bool tangential_history, damping;
+  bool tangential_history, damping, rocking_damping;
   int precision;  // poly_precision
   std::vector<class Compute *> recorders;
   bool recording;               // on this step

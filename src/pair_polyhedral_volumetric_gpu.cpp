@@ -170,6 +170,7 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
   settings.precision = precision;
   settings.tangential = tangential_history;
   settings.damping = damping;
+  settings.rocking = damping && rocking_damping;
   settings.advance_history = advance_history;
   settings.dt = update->dt;
 

@@ -24,6 +24,27 @@
  * follows document 000 (eqs. 4.8, 4.9: stiffness rescaling on unloading only),
  * not LIGGGHTS' `tangential history`, which rescales on loading too.
  *
+ * Rocking damping (on when the caller gives the overlap's second moment Q
+ * about c; zero Q: off). The damping above acts on u_n at c only, so a block
+ * rocking on an edge or a face, whose overlap turns about c, is barely damped.
+ * Spread over the overlap as dashpots per unit volume, the same damping is the
+ * traction -(gamma_n/V) v_n(x) n with v_n(x) = u_n + n.(w x (x - c)),
+ * w = omega_j - omega_i. Its resultant is exactly -gamma_n u_n n (the integral
+ * of x - c vanishes), and it adds the couple on j
+ *   T_r = -(gamma_n/V) [n]x Q [n]x^T w = -(gamma_n/V) (tr(Q_t) P - Q_t) w,
+ * P = I - n n^T, Q_t = P Q P; the tangential dashpots give likewise, for the
+ * twist about n (with `tangential history`),
+ *   T_s = -(gamma_t/V) tr(Q_t) (w.n) n.
+ * No implied pressure may pull, and no twist exceed friction: |T_r| is capped
+ * at F_n sqrt(tr(Q_t)/V) and |T_s| at mu F_n (2/3) sqrt(2 tr(Q_t)/V) (a disc's
+ * friction couple). T_r, normal to n, is applied as what it is, a shift of the
+ * centre of pressure: the whole contact force acts at c + s, s = n x T_r / F_n
+ * (|s| <= the overlap's radius of gyration), so a wall's stress module, which
+ * takes forces at points, sees it too. T_s is a pure couple, applied only where
+ * the caller allows one (`couples`: pairs and primitive walls, not meshes).
+ * Translation and equal spins (w = 0), which is every sphere test against
+ * LIGGGHTS, give no shift and no couple.
+ *
  * Header-only C for the CPU style and the CUDA kernels alike.
  */
 #ifndef POLY_CONTACT_H
@@ -51,6 +72,8 @@ typedef struct poly_contact_input {
   double volume, depth;
   double normal[3];          /* unit, from i to j */
   double centroid[3];
+  double second_moment[6];   /* of the overlap about c (xx yy zz xy xz yz); zero: no rocking damping */
+  int couples;               /* 1: the twist couple may be applied (0: a mesh wall, whose stress takes forces only) */
   double position_i[3], position_j[3];
   double velocity_i[3], velocity_j[3];
   double omega_i[3], omega_j[3];
@@ -64,6 +87,7 @@ typedef struct poly_contact_output {
   double normal_force;       /* >= 0 */
   double tangential_force[3];/* on j */
   double normal_stiffness, tangential_stiffness;
+  double pressure_shift[3];  /* the force acts at centroid + pressure_shift (rocking damping) */
 } poly_contact_output;
 
 /* The two bodies of a contact input: positions, velocities, angular
@@ -77,6 +101,55 @@ POLY_INLINE void poly_contact_input_set_geometry(poly_contact_input *in, double 
     in->normal[k] = normal[k];
     in->centroid[k] = centroid[k];
   }
+  for (int e = 0; e < 6; e++) in->second_moment[e] = 0.0;
+  in->couples = 1;
+}
+
+/* The overlap's second moment about its centroid, for the rocking damping. */
+POLY_INLINE void poly_contact_input_set_second_moment(poly_contact_input *in, const double *second_moment)
+{
+  for (int e = 0; e < 6; e++) in->second_moment[e] = second_moment[e];
+}
+
+/* The rocking couple T_r on j as the shift of the centre of pressure, and the
+ * twist couple T_s on j (see the header), from the damping coefficients of the
+ * normal and tangential directions. */
+POLY_INLINE void poly_rocking_damping(const poly_contact_input *in, double gamma_n, double gamma_t, double normal_force,
+                                      double friction, double shift[3], double twist_j[3])
+{
+  const double *n = in->normal, *m = in->second_moment;
+  for (int k = 0; k < 3; k++) shift[k] = twist_j[k] = 0.0;
+  if (!(in->volume > 0.0) || !(normal_force > 0.0)) return;
+  double q[9] = {m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2]};
+  double qn[3], w[3];
+  for (int k = 0; k < 3; k++) {
+    qn[k] = q[3 * k] * n[0] + q[3 * k + 1] * n[1] + q[3 * k + 2] * n[2];
+    w[k] = in->omega_j[k] - in->omega_i[k];
+  }
+  double trace_t = m[0] + m[1] + m[2] - (n[0] * qn[0] + n[1] * qn[1] + n[2] * qn[2]);
+  if (!(trace_t > 0.0)) return;
+  /* [n]x Q [n]x^T w = n x (Q (w x n)), with [n]x^T w = w x n. */
+  double wxn[3], qwxn[3], rocking[3];
+  poly_cross3_d(w, n, wxn);
+  for (int k = 0; k < 3; k++) qwxn[k] = q[3 * k] * wxn[0] + q[3 * k + 1] * wxn[1] + q[3 * k + 2] * wxn[2];
+  poly_cross3_d(n, qwxn, rocking);
+  double scale = -gamma_n / in->volume, size = 0.0;
+  for (int k = 0; k < 3; k++) {
+    rocking[k] *= scale;
+    size += rocking[k] * rocking[k];
+  }
+  size = sqrt(size);
+  double limit = normal_force * sqrt(trace_t / in->volume);
+  double keep = size > limit ? limit / size : 1.0;
+  double n_x_rocking[3];
+  poly_cross3_d(n, rocking, n_x_rocking);
+  for (int k = 0; k < 3; k++) shift[k] = keep * n_x_rocking[k] / normal_force;
+  double spin = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
+  double twist = -gamma_t / in->volume * trace_t * spin;
+  double twist_limit = friction * normal_force * (2.0 / 3.0) * sqrt(2.0 * trace_t / in->volume);
+  if (twist > twist_limit) twist = twist_limit;
+  if (twist < -twist_limit) twist = -twist_limit;
+  for (int k = 0; k < 3; k++) twist_j[k] = in->couples ? twist * n[k] : 0.0;
 }
 
 POLY_INLINE void poly_contact_input_set_bodies(poly_contact_input *in, const double *position_i, const double *velocity_i,
@@ -217,14 +290,27 @@ POLY_INLINE void poly_contact_evaluate(const poly_contact_input *in, const poly_
     history[4] = normal_force;
   }
 
-  double force_i[3];
+  double force_i[3], twist[3] = {0.0, 0.0, 0.0};
   for (int k = 0; k < 3; k++) {
     out->force_j[k] = normal_force * n[k] + tangential_force[k];
     out->tangential_force[k] = tangential_force[k];
     force_i[k] = -out->force_j[k];
+    out->pressure_shift[k] = 0.0;
+  }
+  if (damping) {
+    double gamma_t = tangential ? damping_factor * sqrt(k_t * effective_mass) : 0.0;
+    poly_rocking_damping(in, gamma_n, gamma_t, normal_force, material->friction, out->pressure_shift, twist);
+    for (int k = 0; k < 3; k++) {
+      arm_i[k] += out->pressure_shift[k];
+      arm_j[k] += out->pressure_shift[k];
+    }
   }
   poly_cross3_d(arm_i, force_i, out->torque_i);
   poly_cross3_d(arm_j, out->force_j, out->torque_j);
+  for (int k = 0; k < 3; k++) {
+    out->torque_j[k] += twist[k];
+    out->torque_i[k] -= twist[k];
+  }
   out->normal_force = normal_force;
   out->normal_stiffness = k_n;
   out->tangential_stiffness = k_t;

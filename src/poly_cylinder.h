@@ -299,6 +299,7 @@ POLY_INLINE void poly_cylinder_overlap(const poly_shape_view_d *shape, const dou
   result->volume = result->depth = result->area = result->projected_area = 0.0;
   for (int k = 0; k < 3; k++) result->centroid[k] = result->normal[k] = 0.0;
   result->num_nodes = result->num_inconsistent = result->filtered_out = result->recomputed = result->smoothed = 0;
+  for (int e = 0; e < 6; e++) result->second_moment[e] = 0.0; /* not computed: no rocking damping on cylinders */
 
   /* Coordinates relative to (CX, CY, z of the particle's centre). */
   const double offset[3] = {position[0] - axis[0], position[1] - axis[1], 0.0};

@@ -32,6 +32,7 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
   result->volume = result->depth = result->area = result->projected_area = 0.0;
   for (int k = 0; k < 3; k++) result->centroid[k] = result->normal[k] = 0.0;
   result->num_nodes = result->num_inconsistent = result->filtered_out = result->recomputed = result->smoothed = 0;
+  for (int e = 0; e < 6; e++) result->second_moment[e] = 0.0;
 
   /* The plane in the body frame: n_b . y < d_b inside the wall. */
   double n[3];
@@ -45,6 +46,7 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
   double foot[3] = {d * n[0], d * n[1], d * n[2]};
 
   double volume6 = 0.0, moment24[3] = {0.0, 0.0, 0.0}, area = 0.0, along_normal = 0.0, deepest = 0.0;
+  double second120[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   int inside_vertices = 0;
   for (int t = 0; t < shape->num_triangles; t++) {
     const int *tri = shape->triangles + 3 * t;
@@ -78,6 +80,7 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
                   a[2] * (b[0] * c[1] - b[1] * c[0]);
       volume6 += v6;
       for (int k = 0; k < 3; k++) moment24[k] += v6 * (a[k] + b[k] + c[k]);
+      poly_second_moment_add(second120, v6, a, b, c);
       double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
       double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
       area += 0.5 * sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
@@ -106,6 +109,10 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
   result->area = area;
   result->projected_area = along_normal;   /* the facets' area vectors sum to -n times this */
   result->num_nodes = inside_vertices;
+  double from_foot[3] = {local_centroid[0] - foot[0], local_centroid[1] - foot[1], local_centroid[2] - foot[2]};
+  for (int e = 0; e < 6; e++) second120[e] /= 120.0;
+  poly_second_moment_to_centroid(second120, volume, from_foot);
+  poly_second_moment_rotate(rotation, second120, result->second_moment);
 }
 
 #endif

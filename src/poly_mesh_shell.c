@@ -589,6 +589,13 @@ void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *
     contact->centroid[k] = moment[k] / contact->volume;
     contact->normal[k] = length > 0.0 ? direction[k] / length : 0.0;
   }
+  /* Second moments about the contact's centroid: each piece's own plus its parallel-axis term. */
+  for (int p = 0; p < count; p++) {
+    double offset[3];
+    for (int k = 0; k < 3; k++) offset[k] = pieces[p].centroid[k] - contact->centroid[k];
+    for (int e = 0; e < 6; e++) contact->second_moment[e] += pieces[p].second_moment[e];
+    poly_second_moment_to_centroid(contact->second_moment, -pieces[p].volume, offset);
+  }
   double low = 1e300, high = -1e300, fallback = 0.0;
   for (int p = 0; p < count; p++) {
     if (num_nodes[p] < 0) {

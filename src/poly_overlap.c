@@ -82,11 +82,15 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
   if (!(result->volume > 0.0)) {
     memset(result->centroid, 0, sizeof result->centroid);
     memset(result->normal, 0, sizeof result->normal);
+    memset(result->second_moment, 0, sizeof result->second_moment);
     return;
   }
   poly_matrix_apply(rotation_a, local_centroid, result->centroid);
   for (int k = 0; k < 3; k++) result->centroid[k] += pose_a->position[k];
   poly_matrix_apply(rotation_a, local_normal, result->normal);
+  double local_second[6];
+  for (int e = 0; e < 6; e++) local_second[e] = result->second_moment[e];
+  poly_second_moment_rotate(rotation_a, local_second, result->second_moment);
 }
 
 #define POLY_OVERLAP_ENTRY(SUFFIX)                                                                     \

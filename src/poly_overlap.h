@@ -67,6 +67,8 @@ typedef struct poly_overlap_result {
   int filtered_out;       /* 1 when the half-space filter proved there is no overlap */
   int recomputed;         /* 1 when an inconsistent edge made the pair be evaluated again without the filter */
   int smoothed;           /* 1 when flush faces made area and normal the mean of two shifted evaluations */
+  double second_moment[6];/* of the overlap's volume about its centroid, world frame (xx yy zz xy xz yz); only
+                             when the workspace's want_second_moment is set (the contact law's rocking damping) */
 } poly_overlap_result;
 
 #define POLY_OVERLAP_DECLARE(REAL, SUFFIX)                                                            \
@@ -83,6 +85,7 @@ typedef struct poly_overlap_result {
   typedef struct poly_overlap_workspace##SUFFIX {                                                   \
     int capacity_vertices, capacity_triangles, capacity_points;                                     \
     int use_filter;                    /* 1 (default): half-space filter; 0: all triangles, even of separated pairs */ \
+    int want_second_moment;            /* 1: also the result's second_moment (default 0) */              \
     REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
     REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \
     REAL *normals_b;                   /* B's unit normals in the local frame */                   \

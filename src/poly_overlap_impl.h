@@ -144,6 +144,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->capacity_triangles = (int)nt;
   ws->capacity_points = (int)np;
   ws->use_filter = 1;
+  ws->want_second_moment = 0;
   return bytes;
 }
 
@@ -290,6 +291,8 @@ typedef struct POLY_FN(accumulator) {
   ACC area;
   R reference[3];  /* the first node of the boundary: the tetrahedra's common vertex O (local frame) */
   int has_reference;
+  int want_second;
+  double second120[6]; /* 120 int (x - O)(x - O)^T dV, when want_second (always in double) */
 } POLY_FN(accumulator);
 
 /* Marks a facet whose apex is not yet set (an impossible local coordinate). */
@@ -334,6 +337,15 @@ POLY_INLINE void POLY_FN(add_segment)(POLY_FN(accumulator) *acc, R *apex, const 
   ACC v6 = q[0] * cross[0] + q[1] * cross[1] + q[2] * cross[2];
   acc->volume6 += v6;
   for (int k = 0; k < 3; k++) acc->moment24[k] += v6 * ((ACC)3 * q[k] + (ACC)2 * e1[k] + side[k]);
+  if (acc->want_second) {
+    double corner_q[3], corner_1[3], corner_2[3];
+    for (int k = 0; k < 3; k++) {
+      corner_q[k] = (double)q[k];
+      corner_1[k] = corner_q[k] + (double)e1[k];
+      corner_2[k] = corner_1[k] + (double)side[k];
+    }
+    poly_second_moment_add(acc->second120, (double)v6, corner_q, corner_1, corner_2);
+  }
   if (of_a) {
     ACC area = (ACC)0.5 * twice_area;
     acc->area += area;
@@ -681,8 +693,9 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
                                        double flush_tolerance, int keep_points, POLY_FN(overlap_workspace) *ws,
                                        POLY_FN(pass) *out)
 {
-  POLY_FN(accumulator) empty = {0, {0, 0, 0}, {0, 0, 0}, 0, {0, 0, 0}, 0};
+  POLY_FN(accumulator) empty = {0, {0, 0, 0}, {0, 0, 0}, 0, {0, 0, 0}, 0, 0, {0, 0, 0, 0, 0, 0}};
   out->acc = empty;
+  out->acc.want_second = ws->want_second_moment && keep_points;
   out->num_points = out->num_inconsistent = out->filtered_out = out->flush = 0;
   out->num_kept_a = out->num_kept_b = 0;
   int capacity_points = ws->capacity_points;
@@ -809,7 +822,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     if (ws->inside_b[j]) POLY_FN(add_point)(ws, &num_points, x);
   }
 
-  POLY_FN(accumulator) acc = {0, {0, 0, 0}, {0, 0, 0}, 0, {0, 0, 0}, 0};
+  POLY_FN(accumulator) acc = out->acc;
   int inconsistent = 0;
   POLY_FN(accumulate_edges)(a, va, a->face_normals, ws->apex_a, ws->inside_a, 0, b, vb, ws->planes_b, ws->bounds_b,
                             ws->kept_list_b, num_kept_b, axis, limit_a, ws, &acc, &num_points, &inconsistent);
@@ -869,6 +882,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   result->volume = result->depth = result->area = result->projected_area = 0.0;
   result->num_nodes = result->num_inconsistent = 0;
   result->filtered_out = result->recomputed = result->smoothed = 0;
+  for (int e = 0; e < 6; e++) result->second_moment[e] = 0.0;
   ws->num_points = 0;
 
   double smoothing = POLY_FN(smoothing_length)() * ((double)a->bounding_radius + (double)b->bounding_radius);
@@ -928,6 +942,12 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   for (int k = 0; k < 3; k++)
     local_centroid[k] = (double)acc.moment24[k] / (24.0 * volume) + (double)acc.reference[k] + origin[k];
   result->area = (double)acc.area;
+  for (int e = 0; e < 6; e++) result->second_moment[e] = acc.second120[e] / 120.0;
+  if (acc.want_second) {
+    double from_reference[3];
+    for (int k = 0; k < 3; k++) from_reference[k] = (double)acc.moment24[k] / (24.0 * volume);
+    poly_second_moment_to_centroid(result->second_moment, volume, from_reference);
+  }
 
   /* Normal (eq. 4.19). When A's surface inside B sums to nothing (one body
    * wholly inside the other), fall back to the centre line. */

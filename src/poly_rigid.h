@@ -85,6 +85,40 @@ POLY_INLINE void poly_cross3_d(const double a[3], const double b[3], double out[
   out[0] = x; out[1] = y; out[2] = z;
 }
 
+/* Second moments of volume, as 6 numbers (xx, yy, zz, xy, xz, yz). The
+ * tetrahedron (0, a, b, c) of signed volume V = v6/6 has
+ * int x x^T dV = V/20 (a a^T + b b^T + c c^T + s s^T), s = a + b + c:
+ * this adds v6 times the bracket (divide the sum by 120). */
+POLY_INLINE void poly_second_moment_add(double m[6], double v6, const double a[3], const double b[3], const double c[3])
+{
+  double s[3] = {a[0] + b[0] + c[0], a[1] + b[1] + c[1], a[2] + b[2] + c[2]};
+  const int row[6] = {0, 1, 2, 0, 0, 1}, column[6] = {0, 1, 2, 1, 2, 2};
+  for (int e = 0; e < 6; e++) {
+    int i = row[e], j = column[e];
+    m[e] += v6 * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j]);
+  }
+}
+
+/* m about the origin -> about the centroid c of the volume V (parallel axes). */
+POLY_INLINE void poly_second_moment_to_centroid(double m[6], double volume, const double c[3])
+{
+  const int row[6] = {0, 1, 2, 0, 0, 1}, column[6] = {0, 1, 2, 1, 2, 2};
+  for (int e = 0; e < 6; e++) m[e] -= volume * c[row[e]] * c[column[e]];
+}
+
+/* R m R^T for a rotation R (row-major). */
+POLY_INLINE void poly_second_moment_rotate(const double r[9], const double m[6], double out[6])
+{
+  double full[9] = {m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2]}, rm[9];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) rm[3 * i + j] = r[3 * i] * full[j] + r[3 * i + 1] * full[3 + j] + r[3 * i + 2] * full[6 + j];
+  const int row[6] = {0, 1, 2, 0, 0, 1}, column[6] = {0, 1, 2, 1, 2, 2};
+  for (int e = 0; e < 6; e++) {
+    int i = row[e], j = column[e];
+    out[e] = rm[3 * i] * r[3 * j] + rm[3 * i + 1] * r[3 * j + 1] + rm[3 * i + 2] * r[3 * j + 2];
+  }
+}
+
 POLY_INLINE void poly_matrix_apply(const double r[9], const double v[3], double out[3])
 {
   double x = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];

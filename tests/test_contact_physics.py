@@ -255,14 +255,11 @@ def test_block_on_slope_sticks_below_and_slides_above_the_friction_angle(run_dec
         assert acceleration > 0.0
 
 
-@pytest.mark.xfail(strict=True, reason="known: a block set down on a 25 deg slope (tan = 0.93 mu) walks "
-                   "down it at ~1.5 mm/s, rocking at ~0.2 rad/s without decay; the volumetric law damps only "
-                   "the normal velocity at the overlap centroid, and not at all while sliding, so rocking "
-                   "about the centroid is undamped once it makes the contact slip; remove this mark when fixed")
 def test_block_set_down_on_a_slope_below_the_friction_angle_sticks(run_deck, tmp_path):
     """As above at 25 deg, but the block is set down on the slope (zero overlap, gravity tilted from
     the start) instead of the slope tilting under it: the landing makes the contact slip briefly,
-    after which the block should stick."""
+    after which the block should stick. Without rocking damping (before it existed) the block walked down
+    the slope at ~1.5 mm/s, rocking at ~0.2 rad/s without decay."""
     tilt = math.radians(25.0)
     deck = two_type_scene("box_1x2x3.off", 0.01, "-0.1 0 0.005")
     deck += f"fix gravity mobile gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\nrun 30000\n"

@@ -127,7 +127,11 @@ def test_smoke_heap_on_the_plate(rig_run):
 def test_smoke_angle_and_energy_are_sane(rig_run):
     out, stdout, r = rig_run
     assert math.isfinite(r["angle"]) and 10.0 < r["angle"] < 70.0, r["angle"]
-    assert 0.0 < r["b"] < 0.15 and r["c"] > 0.0
+    # The fitted sigmoid falls away from the back wall (a, c > 0); its midpoint b may lie behind the wall, which
+    # report.py handles (a heap with no plateau: the slope is taken at the map's end). A heap of 60 rocks is
+    # chaotic: with the rocking damping this seed gives b = -0.06 (21 deg) and seeds 2 and 3 b = 0.031 and 0.026
+    # (19 and 28 deg); without it 0.028, 0.027 and 0.043 (31, 20 and 19 deg).
+    assert r["b"] < 0.15 and r["a"] > 0.0 and r["c"] > 0.0
     assert r["ke_flow"] > 10 * r["ke_end"] and r["ke_last_tenth"] < 0.02 * r["ke_max"]
     assert "| rock_10_" in stdout and (out / "calibration_rig_resolution.png").stat().st_size > 10000
     assert (out / "calibration_rig_heaps.png").stat().st_size > 10000

@@ -271,7 +271,7 @@ def rocking_case(case, args, workdir):
     azimuth, height = {"edge": (0.0, 0.0), "drop": (DROP_AZIMUTH, args.drop), "flat": (0.0, args.drop)}[mode]
     steps = int(round(args.time / args.dt))
     values = dict(MATERIAL, dt=args.dt, steps=steps, every=args.every, OUT=str(prefix), MESH=str(workdir / "floor.stl"),
-                  FLOOR=floor)
+                  FLOOR=floor, ROCKING=getattr(args, "rocking", "on"))
     if kind == "poly":
         shape = SHAPES[shape_name]
         q, z0 = shape.pose(angle, azimuth)
@@ -331,6 +331,7 @@ def pile_case(kind, args, workdir):
     steps = int(round(args.pile_time / args.pile_dt))
     values = dict(MATERIAL, dt=args.pile_dt, steps=steps, every=100, OUT=str(prefix), N=args.pile_n)
     if kind == "poly":
+        values["ROCKING"] = args.rocking
         command = [str(POLY), "-in", "in.pile", "-log", str(prefix) + ".log"] + variables(values)
         if args.pile_np > 1:
             command = ["mpirun", "-np", str(args.pile_np)] + command
@@ -410,6 +411,8 @@ def main():
     parser.add_argument("--pile-np", type=int, default=1, help="MPI ranks of the polyhedral pile")
     parser.add_argument("--workdir", default=str(EXAMPLE / "post" / "bench"))
     parser.add_argument("--peaks", action="store_true", help="print each case's peak sequence")
+    parser.add_argument("--rocking", choices=("on", "off"), default="on",
+                        help="rocking_damping of the polyhedral runs (off: the law before it)")
     args = parser.parse_args()
     workdir = pathlib.Path(args.workdir)
     workdir.mkdir(parents=True, exist_ok=True)

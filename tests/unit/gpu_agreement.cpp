@@ -132,7 +132,9 @@ int main(int argc, char **argv)
   settings.precision = precision;
   settings.tangential = 1;
   settings.damping = 1;
+  settings.rocking = 1;
   settings.dt = 1e-6;
+  ws_d.want_second_moment = ws_f.want_second_moment = 1;  // the rocking damping, as the pair style's default
 
   int failures = 0;
   double tolerance = precision == POLY_PRECISION_DOUBLE ? 1e-10 : 1e-4;
@@ -292,6 +294,7 @@ int main(int argc, char **argv)
       contacts++;
       poly_contact_input in;
       poly_contact_input_set_geometry(&in, g.volume, g.depth, g.normal, g.centroid);
+      poly_contact_input_set_second_moment(&in, g.second_moment);
       poly_contact_input_set_bodies(&in, a.position, a.velocity, a.omega, body.mass, b.position, b.velocity, b.omega,
                                     body.mass, 1e-6);
       poly_contact_output out;
