@@ -31,10 +31,10 @@ const char *const kTemplate =
     "makes particles without a polyhedral shape (no template, zero inertia), which fix wall/polyhedral and "
     "pair polyhedral/volumetric cannot handle; with atom_style polyhedron use fix particletemplate/polyhedron";
 
-#define POLY_EULER_MESSAGE(style)                                                                             \
-  "Fix " style " takes particle volumes from the bounding spheres (volume fractions 2.42x too high for "     \
-  "cubes); with atom_style polyhedron use compute property/polyhedron volume (per particle, e.g. summed over " \
-  "a region with compute reduce/region)"
+#define POLY_EULER_MESSAGE(style)                                                                    \
+  "Fix " style " takes particle volumes from the bounding spheres (a cube counts as 2.72 times its " \
+  "volume); with atom_style polyhedron use compute property/polyhedron volume (per particle, e.g. "   \
+  "summed over a region with compute reduce/region)"
 
 const Guard kGuards[] = {
     {"wall/gran",
@@ -46,7 +46,7 @@ const Guard kGuards[] = {
     {"particletemplate/sphere", NULL},
     {"particletemplate/multisphere", NULL},
     {"particletemplate/multiplespheres", NULL},
-    {"particletemplate/superquadric", NULL},
+    {"particletemplate/superquadric", NULL},  // absent from Debian's build (no superquadric support)
 };
 const int kNumGuards = sizeof kGuards / sizeof kGuards[0];
 

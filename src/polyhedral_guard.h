@@ -1,7 +1,7 @@
 /* Stops LIGGGHTS fixes that treat every particle as a sphere from running on
  * atom_style polyhedron (issue 13): fix wall/gran, fix adapt ... atom diameter,
  * fix ave/euler and the non-polyhedral particle templates would run silently
- * with wrong results (bounding-sphere contacts, volume fractions 2.4x too high,
+ * with wrong results (bounding-sphere contacts, bounding-sphere volume fractions,
  * shapeless particles). Each gets an ERROR: naming the polyhedral replacement
  * at the line that defines it. */
 #ifndef POLYHEDRAL_GUARD_H

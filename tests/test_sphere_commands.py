@@ -97,3 +97,11 @@ def test_volume_equivalent_and_bounding_radius_of_a_cube(run_deck):
     # dump custom's `radius` is the bounding radius: half the cube's space diagonal.
     assert boundradius == pytest.approx(math.sqrt(3) / 2 * edge, rel=1e-9)
     assert radius == pytest.approx(boundradius, rel=1e-12)
+
+
+def test_error_on_two_ranks_is_one_line(run_deck):
+    result = run_deck(BOX + MATERIALS + CUBE +
+                      "fix wall all wall/gran model hertz tangential history primitive type 1 zplane 0.0\n", nprocs=2)
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1 and "fix wall/polyhedral" in errors[0], result.output[-2000:]
