@@ -1,5 +1,6 @@
 #include "compute_property_polyhedron.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "atom.h"
@@ -12,6 +13,7 @@ using namespace LAMMPS_NS;
 static const struct { const char *name; int quantity; } kKeywords[] = {
     {"shape", 0},    {"quatw", 1},    {"quati", 2},    {"quatj", 3},       {"quatk", 4},
     {"inertiax", 5}, {"inertiay", 6}, {"inertiaz", 7}, {"boundradius", 8}, {"volume", 9},
+    {"radius_volume", 10},
 };
 
 ComputePropertyPolyhedron::ComputePropertyPolyhedron(LAMMPS *lmp, int &iarg, int narg, char **arg)
@@ -25,7 +27,7 @@ ComputePropertyPolyhedron::ComputePropertyPolyhedron(LAMMPS *lmp, int &iarg, int
     for (size_t k = 0; k < sizeof kKeywords / sizeof kKeywords[0]; k++)
       if (strcmp(arg[iarg + n], kKeywords[k].name) == 0) found = kKeywords[k].quantity;
     if (found < 0) error->compute_error(FLERR, this, "unknown keyword (shape quatw quati quatj quatk "
-                                                     "inertiax inertiay inertiaz boundradius volume)");
+                                                     "inertiax inertiay inertiaz boundradius volume radius_volume)");
     quantities[n] = static_cast<Quantity>(found);
   }
   // The LIGGGHTS Compute base leaves these unset.
@@ -61,6 +63,8 @@ double ComputePropertyPolyhedron::value_of(Quantity quantity, int i) const
     case INERTIAZ: return atom->inertia[i][2];
     case BOUNDRADIUS: return atom->radius[i];
     case VOLUME: return atom->rmass[i] / atom->density[i];
+    // The radius of the sphere of the particle's volume (dump custom's `radius` is the bounding radius).
+    case RADIUS_VOLUME: return cbrt(3.0 * atom->rmass[i] / (4.0 * M_PI * atom->density[i]));
   }
   return 0.0;
 }

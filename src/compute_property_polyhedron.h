@@ -19,7 +19,7 @@ class ComputePropertyPolyhedron : public Compute {
   double memory_usage();
 
  private:
-  enum Quantity { SHAPE, QUATW, QUATI, QUATJ, QUATK, INERTIAX, INERTIAY, INERTIAZ, BOUNDRADIUS, VOLUME };
+  enum Quantity { SHAPE, QUATW, QUATI, QUATJ, QUATK, INERTIAX, INERTIAY, INERTIAZ, BOUNDRADIUS, VOLUME, RADIUS_VOLUME };
   int num_quantities;
   Quantity *quantities;
   int nmax;

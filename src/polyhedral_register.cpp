@@ -58,6 +58,7 @@
 #include "liggghts_member.h"
 #include "pair_polyhedral_volumetric.h"
 #include "pair_polyhedral_volumetric_gpu.h"
+#include "polyhedral_guard.h"
 
 using namespace LAMMPS_NS;
 
@@ -120,6 +121,8 @@ void register_styles(LAMMPS *lmp)
   computes["property/polyhedron"] = &create_compute<ComputePropertyPolyhedron>;
   computes["pair/polyhedral/local"] = &create_compute<ComputePairPolyhedralLocal>;
   commands["create_polyhedron"] = &run_command<CreatePolyhedron>;
+  // LIGGGHTS fixes that assume spheres stop with an ERROR: under atom_style polyhedron.
+  polyhedral_guard_sphere_fixes(fixes);
 }
 
 }  // namespace

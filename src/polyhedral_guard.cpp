@@ -1,0 +1,105 @@
+/* See polyhedral_guard.h.
+ *
+ * Why wrap the creators rather than check in a fix's init(): Modify::add_fix
+ * looks the style up in fix_map and calls its creator, so the wrapper runs at
+ * the very `fix` line (a fix needs a box, hence atom_style is known by then),
+ * also for fixes that other fixes create, and no extra fix has to be kept at a
+ * particular place in the fix list. The ERROR: line then follows the deck's
+ * offending line in the log. */
+#include "polyhedral_guard.h"
+
+#include <string.h>
+
+#include "lammps.h"
+#include "atom.h"
+#include "error.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+struct Guard {
+  const char *style;
+  const char *message;  // NULL: built from kTemplate, or (fix adapt) only some arguments are refused
+};
+
+const char *const kAdaptDiameter =
+    "Fix adapt with 'atom diameter' changes the bounding radius and the mass of polyhedra, not their shape; "
+    "with atom_style polyhedron set particle sizes with the 'scale' keyword of fix particletemplate/polyhedron";
+
+const char *const kTemplate =
+    "makes particles without a polyhedral shape (no template, zero inertia), which fix wall/polyhedral and "
+    "pair polyhedral/volumetric cannot handle; with atom_style polyhedron use fix particletemplate/polyhedron";
+
+#define POLY_EULER_MESSAGE(style)                                                                    \
+  "Fix " style " takes particle volumes from the bounding spheres (a cube counts as 2.72 times its " \
+  "volume); with atom_style polyhedron use compute property/polyhedron volume (per particle, e.g. "   \
+  "summed over a region with compute reduce/region)"
+
+const Guard kGuards[] = {
+    {"wall/gran",
+     "Fix wall/gran treats polyhedra as their bounding spheres; with atom_style polyhedron use fix "
+     "wall/polyhedral (same 'primitive type T wallstyle args' or 'mesh n_meshes K meshes ...' arguments)"},
+    {"adapt", NULL},
+    {"ave/euler", POLY_EULER_MESSAGE("ave/euler")},
+    {"ave/euler/stress", POLY_EULER_MESSAGE("ave/euler/stress")},
+    {"particletemplate/sphere", NULL},
+    {"particletemplate/multisphere", NULL},
+    {"particletemplate/multiplespheres", NULL},
+    {"particletemplate/superquadric", NULL},  // absent from Debian's build (no superquadric support)
+};
+const int kNumGuards = sizeof kGuards / sizeof kGuards[0];
+
+// LIGGGHTS' own creators, taken from the map before wrapping. They are the
+// same functions after every `clear` (template instances in libliggghts).
+PolyhedralFixCreator original_creator[kNumGuards];
+
+// Fix adapt's arguments: N, then `pair pstyle param I J v_name`, `kspace v_name`
+// or `atom attribute v_name` entries, as LIGGGHTS' FixAdapt parses them.
+bool adapts_diameter(int narg, char **arg)
+{
+  int iarg = 4;
+  while (iarg < narg) {
+    if (strcmp(arg[iarg], "pair") == 0) iarg += 6;
+    else if (strcmp(arg[iarg], "kspace") == 0) iarg += 2;
+    else if (strcmp(arg[iarg], "atom") == 0) {
+      if (iarg + 1 < narg && strcmp(arg[iarg + 1], "diameter") == 0) return true;
+      iarg += 3;
+    } else break;
+  }
+  return false;
+}
+
+template <int K> Fix *guarded_creator(LAMMPS *lmp, int narg, char **arg)
+{
+  const Guard &guard = kGuards[K];
+  if (lmp->atom->atom_style && strcmp(lmp->atom->atom_style, "polyhedron") == 0) {
+    if (strcmp(guard.style, "adapt") == 0) {
+      if (adapts_diameter(narg, arg)) lmp->error->all(FLERR, kAdaptDiameter);
+    } else if (guard.message) {
+      lmp->error->all(FLERR, guard.message);
+    } else {
+      std::string message = std::string("Fix ") + guard.style + " " + kTemplate;
+      lmp->error->all(FLERR, message.c_str());
+    }
+  }
+  return original_creator[K](lmp, narg, arg);
+}
+
+// Wraps kGuards[0 .. K-1].
+template <int K> void wrap(std::map<std::string, PolyhedralFixCreator> &fix_map)
+{
+  wrap<K - 1>(fix_map);
+  std::map<std::string, PolyhedralFixCreator>::iterator it = fix_map.find(kGuards[K - 1].style);
+  if (it == fix_map.end() || it->second == &guarded_creator<K - 1>) return;
+  original_creator[K - 1] = it->second;
+  it->second = &guarded_creator<K - 1>;
+}
+template <> void wrap<0>(std::map<std::string, PolyhedralFixCreator> &) {}
+
+}  // namespace
+
+void polyhedral_guard_sphere_fixes(std::map<std::string, PolyhedralFixCreator> &fix_map)
+{
+  wrap<kNumGuards>(fix_map);
+}

@@ -1,0 +1,26 @@
+/* Stops LIGGGHTS fixes that treat every particle as a sphere from running on
+ * atom_style polyhedron (issue 13): fix wall/gran, fix adapt ... atom diameter,
+ * fix ave/euler and the non-polyhedral particle templates would run silently
+ * with wrong results (bounding-sphere contacts, bounding-sphere volume fractions,
+ * shapeless particles). Each gets an ERROR: naming the polyhedral replacement
+ * at the line that defines it. */
+#ifndef POLYHEDRAL_GUARD_H
+#define POLYHEDRAL_GUARD_H
+
+#include <map>
+#include <string>
+
+namespace LAMMPS_NS {
+class LAMMPS;
+class Fix;
+}
+
+typedef LAMMPS_NS::Fix *(*PolyhedralFixCreator)(LAMMPS_NS::LAMMPS *, int, char **);
+
+// Replaces, in a fresh Modify::fix_map, the creators of the guarded LIGGGHTS
+// styles by wrappers that call error->all under atom_style polyhedron and
+// forward to LIGGGHTS' creator otherwise. Called after every (re)creation of
+// the map (LAMMPS::post_create in polyhedral_register.cpp).
+void polyhedral_guard_sphere_fixes(std::map<std::string, PolyhedralFixCreator> &fix_map);
+
+#endif
