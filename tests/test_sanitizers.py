@@ -46,7 +46,7 @@ KNOWN_EXIT_BUG = ("ComputePairPolyhedralLocal::~ComputePairPolyhedralLocal",
 
 @pytest.fixture(scope="session")
 def asan_launcher():
-    """`make sanitize` once per session (incremental; about 40 s from scratch on 2 cores)."""
+    """`make sanitize` once per session (incremental; about a minute from scratch on 2 cores)."""
     if os.environ.get("POLY_PREBUILT") == "1" and not ASAN_LAUNCHER.exists():
         pytest.skip("POLY_PREBUILT=1 and no build-asan/ (the sanitizer build needs compilers)")
     if os.environ.get("POLY_PREBUILT") != "1":
