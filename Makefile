@@ -3,6 +3,7 @@
 #   make install    copy them under $(PREFIX) (see Makefile.package)
 #   make test       build, then run the test suite
 #   make example    build, run examples/pile and render it to doc/images/pile.png
+#   make sanitize   AddressSanitizer + UBSan build in build-asan/ (CUDA off; doc/building.md)
 include Makefile.package
 
 BUILD := build
@@ -50,7 +51,7 @@ CFLAGS := -std=c11 $(OPT) -fPIC -Wall -Wextra $(DEFINES) $(CFLAGS_EXTRA)
 CXXFLAGS := -std=c++11 $(OPT) -fPIC -Wall $(DEFINES) -I$(LIGGGHTS_INCLUDE) -Isrc -Igpu $(CXXFLAGS_EXTRA)
 NVCCFLAGS := -std=c++14 -O3 -arch=$(CUDA_ARCH) -Xcompiler -fPIC -Isrc -Igpu
 
-.PHONY: pile all install test example clean info
+.PHONY: pile all install test example clean info sanitize
 all: $(LIBRARY) $(LAUNCHER) $(GPU_TEST)
 
 info:
@@ -77,13 +78,13 @@ $(BUILD)/tests/%: tests/unit/%.cpp $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,
 
 $(LIBRARY): $(OBJECTS) $(CUDA_OBJECTS)
 	@mkdir -p $(dir $@)
-	$(MPICXX) -shared -o $@ $(OBJECTS) $(CUDA_OBJECTS) $(LIGGGHTS_LIBS) $(CUDA_LIBS) -ldl -lm
+	$(MPICXX) -shared $(LDFLAGS_EXTRA) -o $@ $(OBJECTS) $(CUDA_OBJECTS) $(LIGGGHTS_LIBS) $(CUDA_LIBS) -ldl -lm
 
 # libpolyhedral must precede libliggghts in the link so its definitions of the
 # hooked LIGGGHTS methods win symbol lookup (see src/polyhedral_register.cpp).
 $(LAUNCHER): src/liggghts_poly_main.cpp $(LIBRARY)
 	@mkdir -p $(dir $@)
-	$(MPICXX) $(CXXFLAGS) $< -o $@ -L$(BUILD)/lib -Wl,--no-as-needed -lpolyhedral $(LIGGGHTS_LIBS) \
+	$(MPICXX) $(CXXFLAGS) $(LDFLAGS_EXTRA) $< -o $@ -L$(BUILD)/lib -Wl,--no-as-needed -lpolyhedral $(LIGGGHTS_LIBS) \
 	  -Wl,-rpath,'$$ORIGIN/../lib'
 
 install: all
@@ -106,5 +107,14 @@ pile: all
 	  --colour shape --title "examples/pile: 96 rocks and Schönhardt polyhedra on a bed of cubes"
 	@echo "wrote doc/images/pile.png and examples/pile/post/particles_*.vtp (open in ParaView)"
 
+# AddressSanitizer + UndefinedBehaviorSanitizer build of the package, in its own tree (build-asan/),
+# host code only. The launcher is linked with the sanitizer runtimes, so no LD_PRELOAD is needed;
+# Debian's libliggghts.so and OpenMPI are not instrumented. Run it with
+# ASAN_OPTIONS=detect_leaks=0 (tests/test_sanitizers.py, doc/building.md).
+SANITIZE_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+sanitize:
+	$(MAKE) BUILD=build-asan CUDA=off OPT="-O1 -g $(SANITIZE_FLAGS)" \
+	  LDFLAGS_EXTRA="$(SANITIZE_FLAGS)" build-asan/lib/libpolyhedral.so build-asan/bin/liggghts-poly
+
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) build-asan
