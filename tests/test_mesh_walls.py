@@ -264,3 +264,100 @@ def test_particle_much_larger_than_the_skin_still_meets_the_mesh(run_deck, tmp_p
     assert abs(-force.mean() / (MASS * G) - 1) < 0.01, force.mean()
     dangerous = re.search(r"Dangerous builds\s*=\s*(\d+)", result.output)
     assert dangerous and int(dangerous.group(1)) == 0, result.output[-2000:]
+
+
+# Winding (issue 13): the solid is on the far side of the mesh from each particle, whichever way the file's
+# triangles run (doc/fix_wall_polyhedral.md, "Which side is solid").
+
+def reversed_triangles(triangles, every=1):
+    """Every `every`-th triangle turned over (corners (a, c, b)); every=1: the whole mesh."""
+    return [(a, c, b) if k % every == 0 else (a, b, c) for k, (a, b, c) in enumerate(triangles)]
+
+
+def cubes_deck(wall_stl, positions, steps, lo=-0.1, hi=0.1, velocity="0.8 -0.5 -1.2"):
+    """10 mm cubes at `positions` thrown (each at `velocity`) at the mesh `wall_stl` (fix wall/polyhedral
+    ID wall); a text dump of every particle at the end."""
+    text = (decks.header(boundary="f f f", lo=lo, hi=hi, ntypes=2) +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n"
+            "fix m1 all property/global youngsModulus peratomtype 1e7 1e7\n"
+            "fix m2 all property/global poissonsRatio peratomtype 0.25 0.25\n"
+            "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
+            "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n" +
+            decks.template("cube", "cube.stl", scale=0.01, atom_type=1) +
+            "pair_style polyhedral/volumetric\npair_coeff * *\n")
+    for k, (x, y, z) in enumerate(positions):
+        angle = 0.41 * k
+        text += (f"create_polyhedron cube {x!r} {y!r} {z!r} quat {math.cos(angle)!r} {0.6 * math.sin(angle)!r} 0 "
+                 f"{0.8 * math.sin(angle)!r} vel {velocity}\n")
+    text += (f"fix wall_mesh all mesh/surface file {wall_stl} type 2\n"
+             "fix wall all wall/polyhedral mesh n_meshes 1 meshes wall_mesh\n"
+             "fix integrate all nve/polyhedron\nfix gravity all gravity 9.81 vector 0 0 -1\n"
+             "thermo_style custom step atoms ke f_wall[3] f_wall[4]\nthermo_modify lost ignore norm no\n"
+             "thermo_modify format float %.15g\nthermo 500\ntimestep 1e-5\n"
+             "dump out all custom 1000000 final.dump id x y z vx vy vz\n"
+             "dump_modify out sort id format \"%d" + " %.17g" * 6 + "\"\n" + f"run {steps}\n")
+    return text
+
+
+def run_windings(run_deck, tmp_path, variants, positions, steps, **kwargs):
+    """{name: (result, final rows)} for each {name: triangles}."""
+    out = {}
+    for name, triangles in variants.items():
+        meshes.write_stl(tmp_path / f"{name}.stl", triangles)
+        result = run_deck(cubes_deck(f"../{name}.stl", positions, steps, **kwargs), workdir=tmp_path / name)
+        assert result.returncode == 0, result.output[-3000:]
+        out[name] = (result, decks.read_dump(result.workdir / "final.dump")[1])
+    return out
+
+
+def largest_difference(a, b):
+    assert sorted(a) == sorted(b)
+    return max(np.abs(np.array(a[i][1:7]) - np.array(b[i][1:7])).max() for i in a)
+
+
+@pytest.mark.parametrize("where", ["inside", "outside"])
+def test_closed_box_either_winding(run_deck, tmp_path, where):
+    """A closed box of 48 triangles (100 mm) as tests/meshes.py winds it (normals inward) and reversed
+    (outward): 8 cubes thrown about inside it (a container), or 6 thrown onto its lid and sides from outside
+    (a solid body), follow the same trajectories to round-off, stay on their side, and the log states the
+    mesh closed with the file's normals inward or outward."""
+    box = meshes.box(-0.05, 0.05, 2)
+    if where == "inside":
+        positions = [(x, y, z) for x in (-0.02, 0.02) for y in (-0.02, 0.02) for z in (-0.02, 0.02)]
+        kwargs = dict(velocity="0.8 -0.5 -1.2")
+    else:
+        positions = [(-0.02, 0.01, 0.065), (0.02, -0.01, 0.075), (0.0, 0.02, 0.09), (0.065, 0.0, 0.02),
+                     (-0.07, 0.01, 0.0), (0.01, 0.066, 0.03)]
+        kwargs = dict(velocity="0 0 -0.5", lo=-0.15, hi=0.15)
+    runs = run_windings(run_deck, tmp_path, {"inward": box, "outward": reversed_triangles(box)}, positions,
+                        steps=5000, **kwargs)
+    worst = largest_difference(runs["inward"][1], runs["outward"][1])
+    contacts = max(runs["inward"][0].thermo("f_wall[4]")["f_wall[4]"])
+    print(f"\nclosed box, cubes {where}: {contacts:.0f} wall contacts at most, inward vs outward winding: "
+          f"largest difference {worst:.1e}")
+    assert contacts > 0
+    assert worst < 1e-9, worst
+    for name, (result, rows) in runs.items():
+        assert f"mesh 'wall_mesh': closed, 48 triangles in 1 surface, normals {name}" in result.output
+        assert len(rows) == len(positions)
+        for values in rows.values():
+            inside = max(abs(v) for v in values[1:4]) < 0.05
+            assert inside == (where == "inside"), (name, values)
+
+
+def test_mixed_winding_warns_and_works(run_deck, tmp_path):
+    """A floor of 200 triangles with every third turned over warns (its shared edges disagree) and still
+    works: 6 cubes thrown onto it follow the same trajectories as on the consistently wound floor, to
+    round-off, and none falls through."""
+    floor = meshes.grid(10, 0.1)
+    positions = [(x, y, 0.012) for x in (-0.04, 0.0, 0.04) for y in (-0.03, 0.03)]
+    runs = run_windings(run_deck, tmp_path, {"consistent": floor, "mixed": reversed_triangles(floor, 3)},
+                        positions, steps=5000, velocity="0.5 0.2 -0.5")
+    mixed = runs["mixed"][0]
+    assert any("shared edges run the same way in both triangles" in line for line in mixed.warning_lines()), \
+        mixed.output[-2000:]
+    assert "mesh 'wall_mesh': open, 200 triangles in 1 connected surface" in mixed.output
+    worst = largest_difference(runs["consistent"][1], runs["mixed"][1])
+    print(f"\nmixed winding: largest difference from the consistent floor {worst:.1e}")
+    assert worst < 1e-9, worst
+    assert all(values[3] > 0.0 for values in runs["mixed"][1].values())
