@@ -551,6 +551,12 @@ void FixWallPolyhedral::gather_candidates(int m)
     for (size_t c = 0; c < neighbours.size(); c++) {
       int i = neighbours[c];
       if (i >= nlocal || !(mask[i] & groupbit)) continue;
+      // Neither prism reaches a particle this far from the triangle's plane; and if this were the surface's
+      // nearest triangle, the particle would not touch the surface (only, at most, the shell's side at an
+      // open border, where either side will do).
+      double height = (x[i][0] - nodes[0][0]) * normal[0] + (x[i][1] - nodes[0][1]) * normal[1] +
+                      (x[i][2] - nodes[0][2]) * normal[2];
+      if (!(fabs(height) < radius[i])) continue;
       double closest[3], pseudo[3];
       int feature = poly_triangle_closest(x[i], nodes[0], nodes[1], nodes[2], closest);
       const double *coefficients = NULL;

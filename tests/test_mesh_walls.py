@@ -274,7 +274,7 @@ def reversed_triangles(triangles, every=1):
     return [(a, c, b) if k % every == 0 else (a, b, c) for k, (a, b, c) in enumerate(triangles)]
 
 
-def cubes_deck(wall_stl, positions, steps, lo=-0.1, hi=0.1, velocity="0.8 -0.5 -1.2"):
+def cubes_deck(wall_stl, positions, steps, lo=-0.1, hi=0.1, velocity="0.8 -0.5 -1.2", turn=0.41):
     """10 mm cubes at `positions` thrown (each at `velocity`) at the mesh `wall_stl` (fix wall/polyhedral
     ID wall); a text dump of every particle at the end."""
     text = (decks.header(boundary="f f f", lo=lo, hi=hi, ntypes=2) +
@@ -286,7 +286,7 @@ def cubes_deck(wall_stl, positions, steps, lo=-0.1, hi=0.1, velocity="0.8 -0.5 -
             decks.template("cube", "cube.stl", scale=0.01, atom_type=1) +
             "pair_style polyhedral/volumetric\npair_coeff * *\n")
     for k, (x, y, z) in enumerate(positions):
-        angle = 0.41 * k
+        angle = turn * k
         text += (f"create_polyhedron cube {x!r} {y!r} {z!r} quat {math.cos(angle)!r} {0.6 * math.sin(angle)!r} 0 "
                  f"{0.8 * math.sin(angle)!r} vel {velocity}\n")
     text += (f"fix wall_mesh all mesh/surface file {wall_stl} type 2\n"
@@ -361,3 +361,29 @@ def test_mixed_winding_warns_and_works(run_deck, tmp_path):
     print(f"\nmixed winding: largest difference from the consistent floor {worst:.1e}")
     assert worst < 1e-9, worst
     assert all(values[3] > 0.0 for values in runs["mixed"][1].values())
+
+
+@pytest.mark.parametrize("up", [True, False], ids=["normals-up", "normals-down"])
+def test_open_sheet_holds_particles_on_both_sides(run_deck, tmp_path, up):
+    """A single open sheet (200 triangles) with a 10 mm cube resting on it and another pressed up against
+    its underside (its gravity reversed), at the same (x, y) up to 1 mm, both square to the sheet (so they
+    do not meet each other through it): each meets the solid on the far
+    side of the sheet from its centre, so both rest, the sheet carrying each one's weight, whichever way
+    the sheet's triangles are wound."""
+    meshes.write_stl(tmp_path / "sheet.stl", meshes.grid(10, 0.1, up=up))
+    deck = cubes_deck("../sheet.stl", [(0.001, 0.0, 0.0052), (0.0, 0.001, -0.0052)], steps=20000, velocity="0 0 0",
+                      turn=0.0)
+    deck = deck.replace("fix gravity all gravity 9.81 vector 0 0 -1\n",
+                        "group top id 1\ngroup bottom id 2\nfix gravity top gravity 9.81 vector 0 0 -1\n"
+                        "fix lift bottom gravity 9.81 vector 0 0 1\n"
+                        "variable z1 equal z[1]\nvariable z2 equal z[2]\n")
+    deck = deck.replace("thermo_style custom step atoms ke", "thermo_style custom step atoms ke v_z1 v_z2")
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode == 0, result.output[-3000:]
+    table = result.thermo("v_z1", "v_z2", "f_wall[3]", "f_wall[4]")
+    print(f"\nsheet, normals {'up' if up else 'down'}: cube above at z = {table['v_z1'][-1] * 1e3:.4f} mm, "
+          f"below at {table['v_z2'][-1] * 1e3:.4f} mm, net force on the sheet {table['f_wall[3]'][-1]:.2e} N")
+    assert 0.0045 < table["v_z1"][-1] < 0.0051 and -0.0051 < table["v_z2"][-1] < -0.0045
+    assert table["f_wall[4]"][-1] == 2
+    weight = 2500 * 1e-6 * 9.81
+    assert abs(table["f_wall[3]"][-1]) < 0.01 * weight   # the two weights cancel on the sheet
