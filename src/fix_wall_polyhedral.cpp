@@ -28,11 +28,11 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 // fix ID group wall/polyhedral [tangential history|off] [damping on|off] [rocking_damping on|off] [thickness H]
-//     [sagitta S]
+//     [sagitta S] [closed_side auto|inside|outside]
 //     primitive type T xplane|yplane|zplane POS  |  primitive type T zcylinder R CX CY  |  mesh n_meshes K meshes MESH-ID ...
 FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
-      sagitta(1e-6), thickness(0.0), shell_thickness(0.0),
+      sagitta(1e-6), thickness(0.0), shell_thickness(0.0), closed_particles(0),
       have_workspace(false), gpu_precision(-1), tangential(-1), damping(-1), rocking(-1), history_id(NULL), history(NULL), pair(NULL),
       force_summed(false)
 {
@@ -58,6 +58,19 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     } else if (strcmp(key, "thickness") == 0 && iarg + 1 < narg) {
       thickness = force->numeric(FLERR, arg[iarg + 1]);
       if (!(thickness > 0.0)) error->all(FLERR, "Fix wall/polyhedral: thickness must be positive");
+      iarg += 2;
+    } else if (strcmp(key, "closed_side") == 0 && iarg + 1 < narg) {
+      // Where the particles are against a closed surface: decided per particle (auto), or fixed.
+      const char *value = arg[iarg + 1];
+      if (strcmp(value, "auto") == 0) closed_particles = 0;
+      else if (strcmp(value, "inside") == 0) closed_particles = 1;
+      else if (strcmp(value, "outside") == 0) closed_particles = -1;
+      else {
+        char message[256];
+        snprintf(message, sizeof message,
+                 "Fix wall/polyhedral: invalid value '%s' for 'closed_side' (auto, inside or outside)", value);
+        error->all(FLERR, message);
+      }
       iarg += 2;
     } else if (strcmp(key, "sagitta") == 0 && iarg + 1 < narg) {
       sagitta = force->numeric(FLERR, arg[iarg + 1]);
@@ -99,7 +112,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
       char message[256];
       snprintf(message, sizeof message,
                "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, rocking_damping, thickness, sagitta, "
-               "primitive, mesh)", key);
+               "closed_side, primitive, mesh)", key);
       error->all(FLERR, message);
     }
   }
@@ -327,11 +340,12 @@ void FixWallPolyhedral::build_shells()
     }
     const char *wound = flipped == 0 ? "outward" : flipped == total ? "inward" : "mixed (made consistent)";
     if (closed == orientation.num_components)
-      snprintf(message, sizeof message,
-               "Fix wall/polyhedral: mesh '%s': closed, %d triangles in %d surface%s, normals %s: the solid is on the "
-               "far side from each particle (the body for particles outside, the container for particles inside)\n",
+      snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': closed, %d triangles in %d surface%s, normals %s: %s\n",
                mesh_ids[m].c_str(), total, orientation.num_components, orientation.num_components > 1 ? "s" : "",
-               wound);
+               wound, closed_particles > 0 ? "particles inside (closed_side inside): the solid is outside"
+                      : closed_particles < 0 ? "particles outside (closed_side outside): the solid is inside"
+                                             : "the solid is on the far side from each particle (the body for particles "
+                                               "outside, the container for particles inside)");
     else
       snprintf(message, sizeof message,
                "Fix wall/polyhedral: mesh '%s': open, %d triangles in %d connected surface%s (%d closed): the solid "
@@ -591,7 +605,10 @@ void FixWallPolyhedral::gather_candidates(int m)
     while (last + 1 < index.size() && side_entries[index[last + 1]].particle == head.particle &&
            side_entries[index[last + 1]].component == head.component)
       last++;
-    for (size_t e = first; e <= last; e++) decided[index[e]] = head.side;
+    int side = head.side;
+    // closed_side inside|outside: particles inside a closed surface (canonically outward) are behind it.
+    if (closed_particles != 0 && orientation.component_closed[head.component]) side = closed_particles > 0 ? 1 : 0;
+    for (size_t e = first; e <= last; e++) decided[index[e]] = side;
     first = last + 1;
   }
   // The candidates, with the prism of their side (each triangle's one or two prisms built once).

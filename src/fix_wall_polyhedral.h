@@ -90,6 +90,7 @@ class FixWallPolyhedral : public Fix {
   std::vector<size_t> side_order;
   double thickness;          // of the shell behind the meshes; <= 0: twice the largest bounding radius
   double shell_thickness;    // in use
+  int closed_particles;      // closed_side: 0 auto (per particle), 1 inside, -1 outside
   poly_overlap_workspace_d workspace;
   bool have_workspace;
   // A (particle, prism) pair whose bounding spheres touch, before its overlap is known.

@@ -303,8 +303,13 @@ def run_windings(run_deck, tmp_path, variants, positions, steps, **kwargs):
     """{name: (result, final rows)} for each {name: triangles}."""
     out = {}
     for name, triangles in variants.items():
+        keywords = ""
+        if isinstance(triangles, tuple):   # (triangles, wall keywords)
+            triangles, keywords = triangles
         meshes.write_stl(tmp_path / f"{name}.stl", triangles)
-        result = run_deck(cubes_deck(f"../{name}.stl", positions, steps, **kwargs), workdir=tmp_path / name)
+        text = cubes_deck(f"../{name}.stl", positions, steps, **kwargs).replace(
+            "wall/polyhedral mesh", f"wall/polyhedral {keywords}mesh")
+        result = run_deck(text, workdir=tmp_path / name)
         assert result.returncode == 0, result.output[-3000:]
         out[name] = (result, decks.read_dump(result.workdir / "final.dump")[1])
     return out
@@ -320,7 +325,8 @@ def test_closed_box_either_winding(run_deck, tmp_path, where):
     """A closed box of 48 triangles (100 mm) as tests/meshes.py winds it (normals inward) and reversed
     (outward): 8 cubes thrown about inside it (a container), or 6 thrown onto its lid and sides from outside
     (a solid body), follow the same trajectories to round-off, stay on their side, and the log states the
-    mesh closed with the file's normals inward or outward."""
+    mesh closed with the file's normals inward or outward. `closed_side inside|outside`, which fixes the side
+    instead of deciding it per particle, gives the same."""
     box = meshes.box(-0.05, 0.05, 2)
     if where == "inside":
         positions = [(x, y, z) for x in (-0.02, 0.02) for y in (-0.02, 0.02) for z in (-0.02, 0.02)]
@@ -329,9 +335,13 @@ def test_closed_box_either_winding(run_deck, tmp_path, where):
         positions = [(-0.02, 0.01, 0.065), (0.02, -0.01, 0.075), (0.0, 0.02, 0.09), (0.065, 0.0, 0.02),
                      (-0.07, 0.01, 0.0), (0.01, 0.066, 0.03)]
         kwargs = dict(velocity="0 0 -0.5", lo=-0.15, hi=0.15)
-    runs = run_windings(run_deck, tmp_path, {"inward": box, "outward": reversed_triangles(box)}, positions,
-                        steps=5000, **kwargs)
+    fixed = (reversed_triangles(box), f"closed_side {where} ")
+    runs = run_windings(run_deck, tmp_path, {"inward": box, "outward": reversed_triangles(box), "fixed": fixed},
+                        positions, steps=5000, **kwargs)
     worst = largest_difference(runs["inward"][1], runs["outward"][1])
+    assert largest_difference(runs["inward"][1], runs["fixed"][1]) < 1e-9
+    assert f"particles {where} (closed_side {where})" in runs["fixed"][0].output
+    del runs["fixed"]
     contacts = max(runs["inward"][0].thermo("f_wall[4]")["f_wall[4]"])
     print(f"\nclosed box, cubes {where}: {contacts:.0f} wall contacts at most, inward vs outward winding: "
           f"largest difference {worst:.1e}")
@@ -387,3 +397,13 @@ def test_open_sheet_holds_particles_on_both_sides(run_deck, tmp_path, up):
     assert table["f_wall[4]"][-1] == 2
     weight = 2500 * 1e-6 * 9.81
     assert abs(table["f_wall[3]"][-1]) < 0.01 * weight   # the two weights cancel on the sheet
+
+
+def test_closed_side_keyword_checks_its_value(run_deck, tmp_path):
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(1, 0.1))
+    deck = scene(mesh_wall("../floor.stl").replace("wall/polyhedral mesh", "wall/polyhedral closed_side below mesh"),
+                 f"0 0 {EDGE / 2}", steps=10)
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode != 0
+    assert any("invalid value 'below' for 'closed_side' (auto, inside or outside)" in line
+               for line in result.error_lines()), result.output[-2000:]
