@@ -28,11 +28,11 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 // fix ID group wall/polyhedral [tangential history|off] [damping on|off] [rocking_damping on|off] [thickness H]
-//     [sagitta S]
+//     [sagitta S] [closed_side auto|inside|outside]
 //     primitive type T xplane|yplane|zplane POS  |  primitive type T zcylinder R CX CY  |  mesh n_meshes K meshes MESH-ID ...
 FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
-      sagitta(1e-6), thickness(0.0), shell_thickness(0.0),
+      sagitta(1e-6), thickness(0.0), shell_thickness(0.0), closed_particles(0),
       have_workspace(false), gpu_precision(-1), tangential(-1), damping(-1), rocking(-1), history_id(NULL), history(NULL), pair(NULL),
       force_summed(false)
 {
@@ -58,6 +58,19 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     } else if (strcmp(key, "thickness") == 0 && iarg + 1 < narg) {
       thickness = force->numeric(FLERR, arg[iarg + 1]);
       if (!(thickness > 0.0)) error->all(FLERR, "Fix wall/polyhedral: thickness must be positive");
+      iarg += 2;
+    } else if (strcmp(key, "closed_side") == 0 && iarg + 1 < narg) {
+      // Where the particles are against a closed surface: decided per particle (auto), or fixed.
+      const char *value = arg[iarg + 1];
+      if (strcmp(value, "auto") == 0) closed_particles = 0;
+      else if (strcmp(value, "inside") == 0) closed_particles = 1;
+      else if (strcmp(value, "outside") == 0) closed_particles = -1;
+      else {
+        char message[256];
+        snprintf(message, sizeof message,
+                 "Fix wall/polyhedral: invalid value '%s' for 'closed_side' (auto, inside or outside)", value);
+        error->all(FLERR, message);
+      }
       iarg += 2;
     } else if (strcmp(key, "sagitta") == 0 && iarg + 1 < narg) {
       sagitta = force->numeric(FLERR, arg[iarg + 1]);
@@ -99,7 +112,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
       char message[256];
       snprintf(message, sizeof message,
                "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, rocking_damping, thickness, sagitta, "
-               "primitive, mesh)", key);
+               "closed_side, primitive, mesh)", key);
       error->all(FLERR, message);
     }
   }
@@ -161,6 +174,8 @@ FixWallPolyhedral::~FixWallPolyhedral()
   if (history && modify->find_fix(history_id) >= 0) modify->delete_fix(history_id);
   delete[] history_id;
   for (size_t m = 0; m < shells.size(); m++) poly_mesh_shell_free(&shells[m]);
+  for (size_t m = 0; m < back_shells.size(); m++) poly_mesh_shell_free(&back_shells[m]);
+  for (size_t m = 0; m < orientations.size(); m++) poly_mesh_orientation_free(&orientations[m]);
   if (have_workspace) poly_overlap_workspace_destroy_d(&workspace);
 }
 
@@ -244,7 +259,11 @@ void FixWallPolyhedral::init()
   have_workspace = true;
   if (!shells.empty() && shells[0].thickness != shell_thickness) {
     for (size_t m = 0; m < shells.size(); m++) poly_mesh_shell_free(&shells[m]);
+    for (size_t m = 0; m < back_shells.size(); m++) poly_mesh_shell_free(&back_shells[m]);
+    for (size_t m = 0; m < orientations.size(); m++) poly_mesh_orientation_free(&orientations[m]);
     shells.clear();
+    back_shells.clear();
+    orientations.clear();
   }
   if (shells.empty()) build_shells();
 }
@@ -288,18 +307,65 @@ void FixWallPolyhedral::build_shells()
       snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': triangles missing", mesh_ids[m].c_str());
       error->all(FLERR, message);
     }
-    poly_mesh_shell shell;
-    if (poly_mesh_shell_build(&corners[0], total, shell_thickness, 1e-8, &shell, text, sizeof text) != 0) {
+    // The connected surfaces, wound consistently and canonically whatever the file's winding; one shell
+    // behind and one in front of the canonical orientation.
+    poly_mesh_orientation orientation;
+    if (poly_mesh_orient(&corners[0], total, 1e-8, &orientation, text, sizeof text) != 0) {
       snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': %s", mesh_ids[m].c_str(), text);
       error->all(FLERR, message);
     }
+    orientations.push_back(orientation);
+    std::vector<double> canonical(corners.size());
+    poly_mesh_shell shell, back;
+    for (int reverse = 0; reverse < 2; reverse++) {
+      poly_mesh_canonical_corners(&orientation, &corners[0], reverse, &canonical[0]);
+      if (poly_mesh_shell_build(&canonical[0], total, shell_thickness, 1e-8, reverse ? &back : &shell, text,
+                                sizeof text) != 0) {
+        snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': %s", mesh_ids[m].c_str(), text);
+        error->all(FLERR, message);
+      }
+    }
     shells.push_back(shell);
+    back_shells.push_back(back);
+    // The shell on the particles' side is the back shell where they are behind the canonical orientation.
+    shell.min_depth_fraction = std::min(shell.min_depth_fraction, back.min_depth_fraction);
+    shell.num_folded = std::max(shell.num_folded, back.num_folded);
+    shell.min_corner_cosine = std::min(shell.min_corner_cosine, back.min_corner_cosine);
     if (comm->me != 0) continue;
-    if (shell.num_misoriented_edges > 0) {
+    int closed = 0, conflicts = 0, flipped = 0;
+    for (int c = 0; c < orientation.num_components; c++) {
+      closed += orientation.component_closed[c];
+      conflicts += orientation.component_conflicts[c];
+      flipped += orientation.component_flipped[c];
+    }
+    const char *wound = flipped == 0 ? "outward" : flipped == total ? "inward" : "mixed (made consistent)";
+    if (closed == orientation.num_components)
+      snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s': closed, %d triangles in %d surface%s, normals %s: %s\n",
+               mesh_ids[m].c_str(), total, orientation.num_components, orientation.num_components > 1 ? "s" : "",
+               wound, closed_particles > 0 ? "particles inside (closed_side inside): the solid is outside"
+                      : closed_particles < 0 ? "particles outside (closed_side outside): the solid is inside"
+                                             : "the solid is on the far side from each particle (the body for particles "
+                                               "outside, the container for particles inside)");
+    else
+      snprintf(message, sizeof message,
+               "Fix wall/polyhedral: mesh '%s': open, %d triangles in %d connected surface%s (%d closed): the solid "
+               "is on the far side of each surface from each particle, whichever way the triangles are wound\n",
+               mesh_ids[m].c_str(), total, orientation.num_components, orientation.num_components > 1 ? "s" : "",
+               closed);
+    if (screen) fputs(message, screen);
+    if (logfile) fputs(message, logfile);
+    if (orientation.num_misoriented_edges > 0) {
       snprintf(message, sizeof message,
                "Fix wall/polyhedral: mesh '%s': %d shared edges run the same way in both triangles: the triangles' "
-               "normals are inconsistent (flipped); each triangle's solid is behind its normal",
-               mesh_ids[m].c_str(), shell.num_misoriented_edges);
+               "normals are inconsistent (flipped); they are oriented consistently per connected surface and the "
+               "solid taken on the far side from each particle",
+               mesh_ids[m].c_str(), orientation.num_misoriented_edges);
+      error->warning(FLERR, message);
+    }
+    if (conflicts > 0) {
+      snprintf(message, sizeof message,
+               "Fix wall/polyhedral: mesh '%s': %d edges cannot be oriented consistently (a non-orientable surface)",
+               mesh_ids[m].c_str(), conflicts);
       error->warning(FLERR, message);
     }
     if (shell.num_nonmanifold_edges > 0) {
@@ -450,38 +516,135 @@ void FixWallPolyhedral::compute_mesh_overlaps()
   compute_overlaps();
 }
 
-// Each (particle, triangle) pair of LIGGGHTS' mesh neighbour list whose bounding spheres can touch.
+static bool side_entry_order(const FixWallPolyhedral::SideEntry &a, const FixWallPolyhedral::SideEntry &b)
+{
+  if (a.particle != b.particle) return a.particle < b.particle;
+  if (a.component != b.component) return a.component < b.component;
+  if (a.distance2 != b.distance2) return a.distance2 < b.distance2;
+  return a.triangle_id < b.triangle_id;
+}
+
+// Triangle j's current corners in canonical order (reverse: the canonical reversed, for the back shell).
+static void canonical_nodes(TriMesh *mesh, int j, int flip, double nodes[3][3])
+{
+  const int order[3] = {0, flip ? 2 : 1, flip ? 1 : 2};
+  for (int k = 0; k < 3; k++) mesh->node(j, order[k], nodes[k]);
+}
+
+// Each (particle, triangle) pair of LIGGGHTS' mesh neighbour list whose bounding spheres can touch, with the
+// prism on the far side from the particle: per particle and connected surface, the side of the particle's
+// centre at the surface's point nearest it (the sign against the pseudo-normal of the face, edge or vertex
+// that point lies on, as for the inside test of a closed surface), so every triangle of the surface near the
+// particle puts its prism on the same side.
 void FixWallPolyhedral::gather_candidates(int m)
 {
   TriMesh *mesh = meshes[m]->triMesh();
   FixNeighlistMesh *list = meshes[m]->meshNeighlist();
+  const poly_mesh_orientation &orientation = orientations[m];
+  const poly_mesh_shell &front = shells[m];
   double **x = atom->x, *radius = atom->radius;
   int *mask = atom->mask;
   const int nlocal = atom->nlocal, triangles = mesh->size();
+  side_entries.clear();
   for (int j = 0; j < triangles; j++) {
     const std::vector<int> &neighbours = list->get_contact_list(j);
     if (neighbours.empty()) continue;
-    double corners[3][3];
-    for (int k = 0; k < 3; k++) mesh->node(j, k, corners[k]);
-    poly_mesh_prism prism;
-    if (poly_mesh_shell_prism(&shells[m], mesh->id(j), corners, &prism) != 0) continue;
-    const double *top_normal = prism.face_normals;
-    int prism_index = -1;
+    const int id = mesh->id(j);
+    double nodes[3][3], e1[3], e2[3], normal[3];
+    canonical_nodes(mesh, j, orientation.flip[id], nodes);
+    for (int k = 0; k < 3; k++) {
+      e1[k] = nodes[1][k] - nodes[0][k];
+      e2[k] = nodes[2][k] - nodes[0][k];
+    }
+    normal[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    normal[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    normal[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double length = sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+    if (!(length > 0.0)) continue;
+    for (int k = 0; k < 3; k++) normal[k] /= length;
     for (size_t c = 0; c < neighbours.size(); c++) {
       int i = neighbours[c];
       if (i >= nlocal || !(mask[i] & groupbit)) continue;
-      double offset[3] = {x[i][0] - corners[0][0], x[i][1] - corners[0][1], x[i][2] - corners[0][2]};
-      if (offset[0] * top_normal[0] + offset[1] * top_normal[1] + offset[2] * top_normal[2] >= radius[i]) continue;
-      double to_prism[3] = {x[i][0] - prism.origin[0], x[i][1] - prism.origin[1], x[i][2] - prism.origin[2]};
-      double reach = radius[i] + prism.view.bounding_radius;
-      if (to_prism[0] * to_prism[0] + to_prism[1] * to_prism[1] + to_prism[2] * to_prism[2] >= reach * reach) continue;
-      if (prism_index < 0) {
-        prism_index = (int)prisms.size();
-        prisms.push_back(prism);
-      }
-      MeshCandidate candidate = {i, j, prism_index};
-      candidates.push_back(candidate);
+      // Neither prism reaches a particle this far from the triangle's plane; and if this were the surface's
+      // nearest triangle, the particle would not touch the surface (only, at most, the shell's side at an
+      // open border, where either side will do).
+      double height = (x[i][0] - nodes[0][0]) * normal[0] + (x[i][1] - nodes[0][1]) * normal[1] +
+                      (x[i][2] - nodes[0][2]) * normal[2];
+      if (!(fabs(height) < radius[i])) continue;
+      double closest[3], pseudo[3];
+      int feature = poly_triangle_closest(x[i], nodes[0], nodes[1], nodes[2], closest);
+      const double *coefficients = NULL;
+      if (feature >= 4) coefficients = orientation.edge_normals + 9 * (size_t)id + 3 * (feature - 4);
+      else if (feature >= 1) coefficients = front.corner_directions + 9 * (size_t)id + 3 * (feature - 1);
+      for (int k = 0; k < 3; k++)
+        pseudo[k] = coefficients ? coefficients[0] * e1[k] + coefficients[1] * e2[k] + coefficients[2] * normal[k]
+                                 : normal[k];
+      if (feature >= 4)
+        for (int k = 0; k < 3; k++) pseudo[k] += normal[k];
+      double offset[3] = {x[i][0] - closest[0], x[i][1] - closest[1], x[i][2] - closest[2]};
+      SideEntry entry;
+      entry.particle = i;
+      entry.triangle = j;
+      entry.component = orientation.component[id];
+      entry.triangle_id = id;
+      entry.distance2 = offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2];
+      entry.side = offset[0] * pseudo[0] + offset[1] * pseudo[1] + offset[2] * pseudo[2] >= 0.0 ? 0 : 1;
+      side_entries.push_back(entry);
     }
+  }
+  // The decision per (particle, surface): its nearest triangle's (ties: the lowest global number).
+  std::vector<size_t> &index = side_order;
+  index.resize(side_entries.size());
+  for (size_t e = 0; e < index.size(); e++) index[e] = e;
+  std::sort(index.begin(), index.end(),
+            [this](size_t a, size_t b) { return side_entry_order(side_entries[a], side_entries[b]); });
+  std::vector<int> decided(side_entries.size());
+  for (size_t first = 0; first < index.size();) {
+    size_t last = first;
+    const SideEntry &head = side_entries[index[first]];
+    while (last + 1 < index.size() && side_entries[index[last + 1]].particle == head.particle &&
+           side_entries[index[last + 1]].component == head.component)
+      last++;
+    int side = head.side;
+    // closed_side inside|outside: particles inside a closed surface (canonically outward) are behind it.
+    if (closed_particles != 0 && orientation.component_closed[head.component]) side = closed_particles > 0 ? 1 : 0;
+    for (size_t e = first; e <= last; e++) decided[index[e]] = side;
+    first = last + 1;
+  }
+  // The candidates, with the prism of their side (each triangle's one or two prisms built once).
+  int current = -1, prism_index[2] = {-1, -1};
+  poly_mesh_prism prism[2];
+  int built[2] = {0, 0};
+  for (size_t e = 0; e < side_entries.size(); e++) {
+    const SideEntry &entry = side_entries[e];
+    const int i = entry.particle, j = entry.triangle, side = decided[e];
+    if (j != current) {
+      current = j;
+      prism_index[0] = prism_index[1] = -1;
+      built[0] = built[1] = 0;
+    }
+    if (!built[side]) {
+      double nodes[3][3];
+      canonical_nodes(mesh, j, orientation.flip[entry.triangle_id] ^ side, nodes);
+      built[side] = poly_mesh_shell_prism(side ? &back_shells[m] : &shells[m], entry.triangle_id, nodes,
+                                          &prism[side]) == 0 ? 1 : -1;
+    }
+    if (built[side] < 0) continue;
+    const poly_mesh_prism &p = prism[side];
+    const double *top_normal = p.face_normals;
+    double corner[3];
+    mesh->node(j, 0, corner);
+    double offset[3] = {x[i][0] - corner[0], x[i][1] - corner[1], x[i][2] - corner[2]};
+    if (offset[0] * top_normal[0] + offset[1] * top_normal[1] + offset[2] * top_normal[2] >= radius[i]) continue;
+    double to_prism[3] = {x[i][0] - p.origin[0], x[i][1] - p.origin[1], x[i][2] - p.origin[2]};
+    double reach = radius[i] + p.view.bounding_radius;
+    if (to_prism[0] * to_prism[0] + to_prism[1] * to_prism[1] + to_prism[2] * to_prism[2] >= reach * reach) continue;
+    if (prism_index[side] < 0) {
+      prism_index[side] = (int)prisms.size();
+      prisms.push_back(p);
+    }
+    MeshCandidate candidate = {i, j, prism_index[side]};
+    candidates.push_back(candidate);
   }
 }
 

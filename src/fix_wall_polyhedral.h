@@ -6,7 +6,8 @@
  * (src/poly_halfspace.h). The zcylinder primitive: exact for a polygonal prism
  * within a stated sagitta of the cylinder (src/poly_cylinder.h). Meshes (fix mesh/surface, mesh/surface/stress, moved
  * by fix move/mesh): each triangle contributes the particle's overlap with its
- * prism of the shell behind the mesh (src/poly_mesh_shell.h); the prisms
+ * prism of the shell on the far side of the mesh from the particle's centre, per connected surface of the
+ * mesh, whichever way its triangles are wound (src/poly_mesh_shell.h, doc/fix_wall_polyhedral.md); the prisms
  * partition the shell, so a particle has one contact per mesh whose volume,
  * centroid and area vector are the sums over the triangles it touches. The
  * force is shared among those triangles by volume for fix mesh/surface/stress.
@@ -51,6 +52,13 @@ class FixWallPolyhedral : public Fix {
     int first_node, num_nodes;            // in `nodes`; num_nodes < 0: not kept
   };
 
+  // A (particle, triangle) pair of the mesh neighbour list, for the side decision.
+  struct SideEntry {
+    int particle, triangle, component, triangle_id;
+    double distance2;                    // from the particle's centre to the triangle
+    int side;                            // 0: centre in front of the canonical orientation (solid behind), 1: behind
+  };
+
  private:
   int parse_mesh(int iarg, int narg, char **arg);
   void build_shells();
@@ -75,9 +83,14 @@ class FixWallPolyhedral : public Fix {
   std::vector<int> cylinder_facets;  // per shape number, 0 until needed
   std::vector<std::string> mesh_ids;
   std::vector<class FixMeshSurface *> meshes;
-  std::vector<poly_mesh_shell> shells;  // per mesh, by global triangle number
+  std::vector<poly_mesh_shell> shells;  // per mesh, by global triangle number: solid behind the canonical normals
+  std::vector<poly_mesh_shell> back_shells;  // the same with the solid in front (canonical corners reversed)
+  std::vector<poly_mesh_orientation> orientations;  // per mesh: connected surfaces, canonical winding
+  std::vector<SideEntry> side_entries;
+  std::vector<size_t> side_order;
   double thickness;          // of the shell behind the meshes; <= 0: twice the largest bounding radius
   double shell_thickness;    // in use
+  int closed_particles;      // closed_side: 0 auto (per particle), 1 inside, -1 outside
   poly_overlap_workspace_d workspace;
   bool have_workspace;
   // A (particle, prism) pair whose bounding spheres touch, before its overlap is known.

@@ -612,3 +612,285 @@ void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *
   contact->depth = high > low ? high - low : 0.0;
   if (fallback > contact->depth) contact->depth = fallback;
 }
+
+/* Mesh orientation: connected surfaces, consistent and canonical winding (poly_mesh_shell.h). */
+
+typedef struct orient_edge {
+  int low, high, triangle, corner, forward;
+} orient_edge;
+
+static int orient_edge_order(const void *pa, const void *pb)
+{
+  const orient_edge *a = (const orient_edge *)pa, *b = (const orient_edge *)pb;
+  if (a->low != b->low) return a->low < b->low ? -1 : 1;
+  if (a->high != b->high) return a->high < b->high ? -1 : 1;
+  return a->triangle != b->triangle ? (a->triangle < b->triangle ? -1 : 1) : a->corner - b->corner;
+}
+
+/* All triangle edges of `ids` (3 per triangle), sorted. */
+static void orient_list_edges(const int *ids, int num_triangles, orient_edge *edges)
+{
+  for (int t = 0; t < num_triangles; t++)
+    for (int c = 0; c < 3; c++) {
+      int a = ids[3 * t + c], b = ids[3 * t + (c + 1) % 3];
+      orient_edge edge = {a < b ? a : b, a < b ? b : a, t, c, a < b};
+      edges[3 * t + c] = edge;
+    }
+  qsort(edges, 3 * (size_t)num_triangles, sizeof(orient_edge), orient_edge_order);
+}
+
+void poly_mesh_canonical_corners(const poly_mesh_orientation *orientation, const double *corners, int reverse,
+                                 double *out)
+{
+  for (int t = 0; t < orientation->num_triangles; t++) {
+    int swap = orientation->flip[t] ^ (reverse ? 1 : 0);
+    const int order[3] = {0, swap ? 2 : 1, swap ? 1 : 2};
+    for (int c = 0; c < 3; c++)
+      for (int k = 0; k < 3; k++) out[9 * t + 3 * c + k] = corners[9 * t + 3 * order[c] + k];
+  }
+}
+
+int poly_mesh_orient(const double *corners, int num_triangles, double relative_tolerance,
+                     poly_mesh_orientation *o, char *message, size_t message_size)
+{
+  memset(o, 0, sizeof *o);
+  if (num_triangles <= 0) {
+    snprintf(message, message_size, "the mesh has no triangles");
+    return -1;
+  }
+  const size_t n = (size_t)num_triangles;
+  o->num_triangles = num_triangles;
+  poly_mesh soup;
+  soup.num_vertices = 3 * num_triangles;
+  soup.num_triangles = num_triangles;
+  soup.vertices = (double *)malloc(sizeof(double) * 9 * n);
+  soup.triangles = (int *)malloc(sizeof(int) * 3 * n);
+  orient_edge *edges = (orient_edge *)malloc(sizeof(orient_edge) * 3 * n);
+  int *neighbour = (int *)malloc(sizeof(int) * 3 * n), *same = (int *)malloc(sizeof(int) * 3 * n);
+  int *queue = (int *)malloc(sizeof(int) * n), *canonical_ids = (int *)malloc(sizeof(int) * 3 * n);
+  double *canonical = (double *)malloc(sizeof(double) * 9 * n);
+  o->flip = (int *)calloc(n, sizeof(int));
+  o->component = (int *)malloc(sizeof(int) * n);
+  o->edge_normals = (double *)malloc(sizeof(double) * 9 * n);
+  o->component_closed = (int *)calloc(n, sizeof(int));
+  o->component_size = (int *)calloc(n, sizeof(int));
+  o->component_flipped = (int *)calloc(n, sizeof(int));
+  o->component_conflicts = (int *)calloc(n, sizeof(int));
+  o->component_volume = (double *)calloc(n, sizeof(double));
+  int failed = !soup.vertices || !soup.triangles || !edges || !neighbour || !same || !queue || !canonical_ids ||
+               !canonical || !o->flip || !o->component || !o->edge_normals || !o->component_closed ||
+               !o->component_size || !o->component_flipped || !o->component_conflicts || !o->component_volume;
+  if (!failed) {
+    memcpy(soup.vertices, corners, sizeof(double) * 9 * n);
+    for (int c = 0; c < 3 * num_triangles; c++) soup.triangles[c] = c;
+    failed = poly_mesh_weld(&soup, relative_tolerance) < 0;
+  }
+  if (failed) {
+    snprintf(message, message_size, "out of memory for a mesh of %d triangles", num_triangles);
+    free(soup.vertices);
+    free(soup.triangles);
+    free(edges);
+    free(neighbour);
+    free(same);
+    free(queue);
+    free(canonical_ids);
+    free(canonical);
+    poly_mesh_orientation_free(o);
+    return -1;
+  }
+  /* Neighbours across manifold edges; same[]: the shared edge runs the same way in both (one must flip). */
+  for (size_t k = 0; k < 3 * n; k++) neighbour[k] = -1;
+  orient_list_edges(soup.triangles, num_triangles, edges);
+  int *open = (int *)calloc(n, sizeof(int));  /* per triangle: has an open or non-manifold edge */
+  for (int first = 0; first < 3 * num_triangles;) {
+    int last = first;
+    while (last + 1 < 3 * num_triangles && edges[last + 1].low == edges[first].low &&
+           edges[last + 1].high == edges[first].high)
+      last++;
+    if (last == first + 1 && edges[first].triangle != edges[last].triangle) {
+      const orient_edge *a = edges + first, *b = edges + last;
+      int flipped = a->forward == b->forward;
+      o->num_misoriented_edges += flipped;
+      neighbour[3 * a->triangle + a->corner] = b->triangle;
+      neighbour[3 * b->triangle + b->corner] = a->triangle;
+      same[3 * a->triangle + a->corner] = same[3 * b->triangle + b->corner] = flipped;
+    } else if (open) {
+      for (int e = first; e <= last; e++) open[edges[e].triangle] = 1;
+    }
+    first = last + 1;
+  }
+  /* Components by breadth-first search from the lowest-numbered triangle not yet reached. */
+  for (size_t t = 0; t < n; t++) o->component[t] = -1;
+  for (int seed = 0; seed < num_triangles; seed++) {
+    if (o->component[seed] >= 0) continue;
+    int id = o->num_components++, head = 0, tail = 0;
+    o->component[seed] = id;
+    o->flip[seed] = 0;
+    queue[tail++] = seed;
+    int closed = 1;
+    while (head < tail) {
+      int t = queue[head++];
+      o->component_size[id]++;
+      if (open && open[t]) closed = 0;
+      for (int c = 0; c < 3; c++) {
+        int u = neighbour[3 * t + c];
+        if (u < 0) continue;
+        int want = o->flip[t] ^ same[3 * t + c];
+        if (o->component[u] < 0) {
+          o->component[u] = id;
+          o->flip[u] = want;
+          queue[tail++] = u;
+        } else if (o->flip[u] != want && u > t) {
+          o->component_conflicts[id]++;
+        }
+      }
+    }
+    o->component_closed[id] = closed && o->component_conflicts[id] == 0;
+  }
+  free(open);
+  /* Canonical orientation per component. */
+  double *volume = o->component_volume;
+  int *lowest = queue;
+  for (int id = 0; id < o->num_components; id++) lowest[id] = -1;
+  for (int t = 0; t < num_triangles; t++) {
+    int id = o->component[t];
+    if (lowest[id] < 0) lowest[id] = t;
+    const double *v = corners + 9 * t;
+    double cross[3];
+    shell_cross(v + 3, v + 6, cross);
+    double six = shell_dot(v, cross) / 6.0;
+    volume[id] += o->flip[t] ? -six : six;
+  }
+  for (int id = 0; id < o->num_components; id++) {
+    int reverse;
+    if (o->component_closed[id]) {
+      reverse = volume[id] < 0.0;
+    } else {
+      const double *v = corners + 9 * lowest[id];
+      double e1[3], e2[3], normal[3];
+      shell_frame(v, v + 3, v + 6, e1, e2, normal);
+      int axis = 0;
+      for (int k = 1; k < 3; k++)
+        if (fabs(normal[k]) > fabs(normal[axis])) axis = k;
+      reverse = (normal[axis] < 0.0) ^ o->flip[lowest[id]];
+    }
+    if (reverse) volume[id] = -volume[id];
+    lowest[id] = reverse;
+  }
+  for (int t = 0; t < num_triangles; t++) {
+    o->flip[t] ^= lowest[o->component[t]];
+    o->component_flipped[o->component[t]] += o->flip[t];
+  }
+  /* Neighbour normals across each canonical edge, in the canonical frame. */
+  poly_mesh_canonical_corners(o, corners, 0, canonical);
+  for (int t = 0; t < num_triangles; t++) {
+    int swap = o->flip[t];
+    const int order[3] = {0, swap ? 2 : 1, swap ? 1 : 2};
+    for (int c = 0; c < 3; c++) canonical_ids[3 * t + c] = soup.triangles[3 * t + order[c]];
+  }
+  for (size_t k = 0; k < 3 * n; k++) neighbour[k] = -1;
+  orient_list_edges(canonical_ids, num_triangles, edges);
+  for (int first = 0; first < 3 * num_triangles;) {
+    int last = first;
+    while (last + 1 < 3 * num_triangles && edges[last + 1].low == edges[first].low &&
+           edges[last + 1].high == edges[first].high)
+      last++;
+    if (last == first + 1 && edges[first].triangle != edges[last].triangle) {
+      neighbour[3 * edges[first].triangle + edges[first].corner] = edges[last].triangle;
+      neighbour[3 * edges[last].triangle + edges[last].corner] = edges[first].triangle;
+    }
+    first = last + 1;
+  }
+  for (int t = 0; t < num_triangles; t++) {
+    const double *v = canonical + 9 * t;
+    double e1[3], e2[3], normal[3];
+    shell_frame(v, v + 3, v + 6, e1, e2, normal);
+    double g11 = shell_dot(e1, e1), g12 = shell_dot(e1, e2), g22 = shell_dot(e2, e2), det = g11 * g22 - g12 * g12;
+    for (int c = 0; c < 3; c++) {
+      double *coefficients = o->edge_normals + 9 * t + 3 * c;
+      int u = neighbour[3 * t + c];
+      coefficients[0] = coefficients[1] = 0.0;
+      coefficients[2] = 1.0;
+      if (u < 0 || !(det > 0.0)) continue;
+      const double *w = canonical + 9 * u;
+      double f1[3], f2[3], m[3];
+      shell_frame(w, w + 3, w + 6, f1, f2, m);
+      double along = shell_dot(m, normal);
+      double in_plane[3] = {m[0] - along * normal[0], m[1] - along * normal[1], m[2] - along * normal[2]};
+      double r1 = shell_dot(in_plane, e1), r2 = shell_dot(in_plane, e2);
+      coefficients[0] = (g22 * r1 - g12 * r2) / det;
+      coefficients[1] = (g11 * r2 - g12 * r1) / det;
+      coefficients[2] = along;
+    }
+  }
+  free(soup.vertices);
+  free(soup.triangles);
+  free(edges);
+  free(neighbour);
+  free(same);
+  free(queue);
+  free(canonical_ids);
+  free(canonical);
+  return 0;
+}
+
+void poly_mesh_orientation_free(poly_mesh_orientation *o)
+{
+  free(o->flip);
+  free(o->component);
+  free(o->component_closed);
+  free(o->component_size);
+  free(o->component_flipped);
+  free(o->component_conflicts);
+  free(o->component_volume);
+  free(o->edge_normals);
+  memset(o, 0, sizeof *o);
+}
+
+/* Ericson, Real-Time Collision Detection, 5.1.5, with the feature reached. */
+int poly_triangle_closest(const double p[3], const double a[3], const double b[3], const double c[3],
+                          double closest[3])
+{
+  double ab[3], ac[3], ap[3], bp[3], cp[3];
+  shell_sub(b, a, ab);
+  shell_sub(c, a, ac);
+  shell_sub(p, a, ap);
+  double d1 = shell_dot(ab, ap), d2 = shell_dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) {
+    memcpy(closest, a, 3 * sizeof(double));
+    return 1;
+  }
+  shell_sub(p, b, bp);
+  double d3 = shell_dot(ab, bp), d4 = shell_dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) {
+    memcpy(closest, b, 3 * sizeof(double));
+    return 2;
+  }
+  double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    double s = d1 / (d1 - d3);
+    for (int k = 0; k < 3; k++) closest[k] = a[k] + s * ab[k];
+    return 4;
+  }
+  shell_sub(p, c, cp);
+  double d5 = shell_dot(ab, cp), d6 = shell_dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) {
+    memcpy(closest, c, 3 * sizeof(double));
+    return 3;
+  }
+  double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    double s = d2 / (d2 - d6);
+    for (int k = 0; k < 3; k++) closest[k] = a[k] + s * ac[k];
+    return 6;  /* edge c -> a */
+  }
+  double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    double s = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    for (int k = 0; k < 3; k++) closest[k] = b[k] + s * (c[k] - b[k]);
+    return 5;  /* edge b -> c */
+  }
+  double denominator = 1.0 / (va + vb + vc), v = vb * denominator, w = vc * denominator;
+  for (int k = 0; k < 3; k++) closest[k] = a[k] + ab[k] * v + ac[k] * w;
+  return 0;
+}

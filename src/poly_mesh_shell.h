@@ -66,6 +66,43 @@ int poly_mesh_shell_build(const double *corners, int num_triangles, double thick
                           poly_mesh_shell *shell, char *message, size_t message_size);
 void poly_mesh_shell_free(poly_mesh_shell *shell);
 
+/* The mesh's connected surfaces (triangles joined across edges of exactly two triangles), each oriented
+ * consistently whatever the triangles' winding in the file: a triangle's canonical corners are (v0, v1, v2)
+ * or, where flip is set, (v0, v2, v1). A closed surface (every edge of two triangles) is oriented outward
+ * (positive enclosed volume); an open one by its lowest-numbered triangle, whose canonical normal's largest
+ * component is positive. Shells built from the canonical corners and from their reverse put the solid
+ * behind and in front of the canonical orientation: fix wall/polyhedral takes, per particle and surface,
+ * the one away from the particle's centre. */
+typedef struct poly_mesh_orientation {
+  int num_triangles;
+  int num_components;
+  int *flip;                 /* per triangle */
+  int *component;            /* per triangle */
+  int *component_closed;     /* per component: every edge shared by exactly two of its triangles */
+  int *component_size;       /* triangles */
+  int *component_flipped;    /* triangles flipped from the file's winding */
+  int *component_conflicts;  /* edges that no orientation makes consistent (a non-orientable surface) */
+  double *component_volume;  /* enclosed by a closed component, canonical orientation (> 0) */
+  int num_misoriented_edges; /* shared edges running the same way in both triangles, as wound in the file */
+  /* 9 per triangle: the canonical unit normal of the triangle across canonical edge c (corner c -> c + 1) as
+   * coefficients (a, b, c) of a e1 + b e2 + c n in the triangle's canonical frame; (0, 0, 1) on open and
+   * non-manifold edges. n + that: the edge's pseudo-normal, for the side of a point nearest the edge. */
+  double *edge_normals;
+} poly_mesh_orientation;
+
+int poly_mesh_orient(const double *corners, int num_triangles, double relative_tolerance,
+                     poly_mesh_orientation *orientation, char *message, size_t message_size);
+void poly_mesh_orientation_free(poly_mesh_orientation *orientation);
+
+/* Corners 9 per triangle in canonical order (reverse = 1: the canonical reversed, (v0, v2, v1) of it). */
+void poly_mesh_canonical_corners(const poly_mesh_orientation *orientation, const double *corners, int reverse,
+                                 double *out);
+
+/* The point of triangle (a, b, c) nearest p and which feature it lies on: 0 the face, 1 + k corner k,
+ * 4 + k the edge from corner k to corner k + 1. */
+int poly_triangle_closest(const double p[3], const double a[3], const double b[3], const double c[3],
+                          double closest[3]);
+
 /* One triangle's prism, as a closed shape for poly_overlap_d: 6 vertices,
  * 8 triangles, 12 edges, relative to its own centroid (`origin`, world). */
 typedef struct poly_mesh_prism {

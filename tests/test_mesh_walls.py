@@ -264,3 +264,146 @@ def test_particle_much_larger_than_the_skin_still_meets_the_mesh(run_deck, tmp_p
     assert abs(-force.mean() / (MASS * G) - 1) < 0.01, force.mean()
     dangerous = re.search(r"Dangerous builds\s*=\s*(\d+)", result.output)
     assert dangerous and int(dangerous.group(1)) == 0, result.output[-2000:]
+
+
+# Winding (issue 13): the solid is on the far side of the mesh from each particle, whichever way the file's
+# triangles run (doc/fix_wall_polyhedral.md, "Which side is solid").
+
+def reversed_triangles(triangles, every=1):
+    """Every `every`-th triangle turned over (corners (a, c, b)); every=1: the whole mesh."""
+    return [(a, c, b) if k % every == 0 else (a, b, c) for k, (a, b, c) in enumerate(triangles)]
+
+
+def cubes_deck(wall_stl, positions, steps, lo=-0.1, hi=0.1, velocity="0.8 -0.5 -1.2", turn=0.41):
+    """10 mm cubes at `positions` thrown (each at `velocity`) at the mesh `wall_stl` (fix wall/polyhedral
+    ID wall); a text dump of every particle at the end."""
+    text = (decks.header(boundary="f f f", lo=lo, hi=hi, ntypes=2) +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n"
+            "fix m1 all property/global youngsModulus peratomtype 1e7 1e7\n"
+            "fix m2 all property/global poissonsRatio peratomtype 0.25 0.25\n"
+            "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
+            "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n" +
+            decks.template("cube", "cube.stl", scale=0.01, atom_type=1) +
+            "pair_style polyhedral/volumetric\npair_coeff * *\n")
+    for k, (x, y, z) in enumerate(positions):
+        angle = turn * k
+        text += (f"create_polyhedron cube {x!r} {y!r} {z!r} quat {math.cos(angle)!r} {0.6 * math.sin(angle)!r} 0 "
+                 f"{0.8 * math.sin(angle)!r} vel {velocity}\n")
+    text += (f"fix wall_mesh all mesh/surface file {wall_stl} type 2\n"
+             "fix wall all wall/polyhedral mesh n_meshes 1 meshes wall_mesh\n"
+             "fix integrate all nve/polyhedron\nfix gravity all gravity 9.81 vector 0 0 -1\n"
+             "thermo_style custom step atoms ke f_wall[3] f_wall[4]\nthermo_modify lost ignore norm no\n"
+             "thermo_modify format float %.15g\nthermo 500\ntimestep 1e-5\n"
+             "dump out all custom 1000000 final.dump id x y z vx vy vz\n"
+             "dump_modify out sort id format \"%d" + " %.17g" * 6 + "\"\n" + f"run {steps}\n")
+    return text
+
+
+def run_windings(run_deck, tmp_path, variants, positions, steps, **kwargs):
+    """{name: (result, final rows)} for each {name: triangles}."""
+    out = {}
+    for name, triangles in variants.items():
+        keywords = ""
+        if isinstance(triangles, tuple):   # (triangles, wall keywords)
+            triangles, keywords = triangles
+        meshes.write_stl(tmp_path / f"{name}.stl", triangles)
+        text = cubes_deck(f"../{name}.stl", positions, steps, **kwargs).replace(
+            "wall/polyhedral mesh", f"wall/polyhedral {keywords}mesh")
+        result = run_deck(text, workdir=tmp_path / name)
+        assert result.returncode == 0, result.output[-3000:]
+        out[name] = (result, decks.read_dump(result.workdir / "final.dump")[1])
+    return out
+
+
+def largest_difference(a, b):
+    assert sorted(a) == sorted(b)
+    return max(np.abs(np.array(a[i][1:7]) - np.array(b[i][1:7])).max() for i in a)
+
+
+@pytest.mark.parametrize("where", ["inside", "outside"])
+def test_closed_box_either_winding(run_deck, tmp_path, where):
+    """A closed box of 48 triangles (100 mm) as tests/meshes.py winds it (normals inward) and reversed
+    (outward): 8 cubes thrown about inside it (a container), or 6 thrown onto its lid and sides from outside
+    (a solid body), follow the same trajectories to round-off, stay on their side, and the log states the
+    mesh closed with the file's normals inward or outward. `closed_side inside|outside`, which fixes the side
+    instead of deciding it per particle, gives the same."""
+    box = meshes.box(-0.05, 0.05, 2)
+    if where == "inside":
+        positions = [(x, y, z) for x in (-0.02, 0.02) for y in (-0.02, 0.02) for z in (-0.02, 0.02)]
+        kwargs = dict(velocity="0.8 -0.5 -1.2")
+    else:
+        positions = [(-0.02, 0.01, 0.065), (0.02, -0.01, 0.075), (0.0, 0.02, 0.09), (0.065, 0.0, 0.02),
+                     (-0.07, 0.01, 0.0), (0.01, 0.066, 0.03)]
+        kwargs = dict(velocity="0 0 -0.5", lo=-0.15, hi=0.15)
+    fixed = (reversed_triangles(box), f"closed_side {where} ")
+    runs = run_windings(run_deck, tmp_path, {"inward": box, "outward": reversed_triangles(box), "fixed": fixed},
+                        positions, steps=5000, **kwargs)
+    worst = largest_difference(runs["inward"][1], runs["outward"][1])
+    assert largest_difference(runs["inward"][1], runs["fixed"][1]) < 1e-9
+    assert f"particles {where} (closed_side {where})" in runs["fixed"][0].output
+    del runs["fixed"]
+    contacts = max(runs["inward"][0].thermo("f_wall[4]")["f_wall[4]"])
+    print(f"\nclosed box, cubes {where}: {contacts:.0f} wall contacts at most, inward vs outward winding: "
+          f"largest difference {worst:.1e}")
+    assert contacts > 0
+    assert worst < 1e-9, worst
+    for name, (result, rows) in runs.items():
+        assert f"mesh 'wall_mesh': closed, 48 triangles in 1 surface, normals {name}" in result.output
+        assert len(rows) == len(positions)
+        for values in rows.values():
+            inside = max(abs(v) for v in values[1:4]) < 0.05
+            assert inside == (where == "inside"), (name, values)
+
+
+def test_mixed_winding_warns_and_works(run_deck, tmp_path):
+    """A floor of 200 triangles with every third turned over warns (its shared edges disagree) and still
+    works: 6 cubes thrown onto it follow the same trajectories as on the consistently wound floor, to
+    round-off, and none falls through."""
+    floor = meshes.grid(10, 0.1)
+    positions = [(x, y, 0.012) for x in (-0.04, 0.0, 0.04) for y in (-0.03, 0.03)]
+    runs = run_windings(run_deck, tmp_path, {"consistent": floor, "mixed": reversed_triangles(floor, 3)},
+                        positions, steps=5000, velocity="0.5 0.2 -0.5")
+    mixed = runs["mixed"][0]
+    assert any("shared edges run the same way in both triangles" in line for line in mixed.warning_lines()), \
+        mixed.output[-2000:]
+    assert "mesh 'wall_mesh': open, 200 triangles in 1 connected surface" in mixed.output
+    worst = largest_difference(runs["consistent"][1], runs["mixed"][1])
+    print(f"\nmixed winding: largest difference from the consistent floor {worst:.1e}")
+    assert worst < 1e-9, worst
+    assert all(values[3] > 0.0 for values in runs["mixed"][1].values())
+
+
+@pytest.mark.parametrize("up", [True, False], ids=["normals-up", "normals-down"])
+def test_open_sheet_holds_particles_on_both_sides(run_deck, tmp_path, up):
+    """A single open sheet (200 triangles) with a 10 mm cube resting on it and another pressed up against
+    its underside (its gravity reversed), at the same (x, y) up to 1 mm, both square to the sheet (so they
+    do not meet each other through it): each meets the solid on the far
+    side of the sheet from its centre, so both rest, the sheet carrying each one's weight, whichever way
+    the sheet's triangles are wound."""
+    meshes.write_stl(tmp_path / "sheet.stl", meshes.grid(10, 0.1, up=up))
+    deck = cubes_deck("../sheet.stl", [(0.001, 0.0, 0.0052), (0.0, 0.001, -0.0052)], steps=20000, velocity="0 0 0",
+                      turn=0.0)
+    deck = deck.replace("fix gravity all gravity 9.81 vector 0 0 -1\n",
+                        "group top id 1\ngroup bottom id 2\nfix gravity top gravity 9.81 vector 0 0 -1\n"
+                        "fix lift bottom gravity 9.81 vector 0 0 1\n"
+                        "variable z1 equal z[1]\nvariable z2 equal z[2]\n")
+    deck = deck.replace("thermo_style custom step atoms ke", "thermo_style custom step atoms ke v_z1 v_z2")
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode == 0, result.output[-3000:]
+    table = result.thermo("v_z1", "v_z2", "f_wall[3]", "f_wall[4]")
+    print(f"\nsheet, normals {'up' if up else 'down'}: cube above at z = {table['v_z1'][-1] * 1e3:.4f} mm, "
+          f"below at {table['v_z2'][-1] * 1e3:.4f} mm, net force on the sheet {table['f_wall[3]'][-1]:.2e} N")
+    assert 0.0045 < table["v_z1"][-1] < 0.0051 and -0.0051 < table["v_z2"][-1] < -0.0045
+    assert table["f_wall[4]"][-1] == 2
+    weight = 2500 * 1e-6 * 9.81
+    assert abs(table["f_wall[3]"][-1]) < 0.01 * weight   # the two weights cancel on the sheet
+
+
+def test_closed_side_keyword_checks_its_value(run_deck, tmp_path):
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(1, 0.1))
+    deck = scene(mesh_wall("../floor.stl").replace("wall/polyhedral mesh", "wall/polyhedral closed_side below mesh"),
+                 f"0 0 {EDGE / 2}", steps=10)
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode != 0
+    assert any("invalid value 'below' for 'closed_side' (auto, inside or outside)" in line
+               for line in result.error_lines()), result.output[-2000:]

@@ -5,7 +5,8 @@ set -euo pipefail
 packages=(liggghts libliggghts-dev libopenmpi-dev openmpi-bin make g++ gcc binutils
           python3 python3-numpy python3-scipy python3-matplotlib python3-pytest
           python3-paraview xvfb xauth    # ParaView's Python under Xvfb: tools/render_scene.py
-          libcgal-dev libgmp-dev libmpfr-dev)   # test only: the exact overlap reference (tests/test_exact_reference.py)
+          libcgal-dev libgmp-dev libmpfr-dev    # test only: the exact overlap reference (tests/test_exact_reference.py)
+          liggghts-doc)                         # test only: LIGGGHTS' tutorial meshes (tests/test_tutorial_decks.py)
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
