@@ -1,4 +1,5 @@
 #include "atom_vec_polyhedron.h"
+#include "compute_pair_polyhedral_local.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -53,6 +54,8 @@ void AtomVecPolyhedron::init()
   if (dynamic_cast<DomainWedge *>(domain)) error->all(FLERR, "atom_style polyhedron does not support wedge domains");
   for (int i = 0; i < atom->nlocal; i++) resolve_shape(i);
   check_restart_masses = false;
+  // After uncompute, no compute pair/polyhedral/local may be left for init to do this.
+  ComputePairPolyhedralLocal::drop_destroyed_recorders(lmp);
 }
 
 void AtomVecPolyhedron::resolve_shape(int i)

@@ -24,6 +24,11 @@ class ComputePairPolyhedralLocal : public Compute {
 
   enum { kColumns = 16 };
 
+  // Removes computes destroyed since the last init from the pair style's
+  // recorders; called from every init that precedes a run (this compute's and
+  // atom_style polyhedron's), never from a destructor.
+  static void drop_destroyed_recorders(class LAMMPS *);
+
  private:
   class PairPolyhedralVolumetric *pair;
   int capacity;

@@ -95,3 +95,42 @@ def test_set_density_changes_mass_not_shape(run_deck):
     assert result.returncode == 0, result.output
     _, rows = decks.read_dump(result.workdir / "mass.txt")
     assert abs(rows[1][1] - 3000 * 0.1 ** 3) < 1e-12
+
+
+CONTACT_MATERIAL = ("fix m1 all property/global youngsModulus peratomtype 1e7\n"
+                    "fix m2 all property/global poissonsRatio peratomtype 0.3\n"
+                    "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5\n"
+                    "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5\n")
+
+
+def two_cubes_deck(boundary="f f f", gap=-0.005, extent=1.0):
+    return ("atom_style polyhedron\natom_modify map array sort 0 0\n"
+            f"boundary {boundary}\nnewton off\ncommunicate single vel yes\nunits si\n"
+            f"region box block -{extent} {extent} -{extent} {extent} -{extent} {extent}\ncreate_box 1 box\n" +
+            CONTACT_MATERIAL +
+            "fix cube all particletemplate/polyhedron 15485863 atom_type 1 density constant 2500 "
+            "file ${SHAPES}/cube.stl scale 0.1\n"
+            "pair_style polyhedral/volumetric tangential history damping on\npair_coeff * *\n"
+            f"create_polyhedron cube 0 0 0\ncreate_polyhedron cube {0.1 + gap!r} 0 0\n"
+            "fix integrate all nve/polyhedron\ntimestep 1e-6\n")
+
+
+def test_compute_pair_local_leaves_no_invalid_access_at_exit(launcher, tmp_path):
+    """The compute's destructor used to read force->pair after LIGGGHTS had deleted force (valgrind:
+    invalid read and write at exit); an uncomputed recorder must not be left in the pair style either."""
+    import os
+    import shutil
+    import subprocess
+    from conftest import MPI_ENV, SHAPES
+    if not shutil.which("valgrind"):
+        pytest.skip("valgrind is not installed")
+    deck = tmp_path / "in.valgrind"
+    deck.write_text(two_cubes_deck() + "compute contacts all pair/polyhedral/local\n"
+                    "compute other all pair/polyhedral/local\nthermo_style custom step c_contacts\n"
+                    "thermo 5\nrun 10\nuncompute other\nrun 10\n")
+    result = subprocess.run(["valgrind", "--error-exitcode=9", str(launcher), "-in", str(deck), "-echo", "none",
+                             "-log", "none", "-var", "SHAPES", str(SHAPES)], cwd=tmp_path, capture_output=True,
+                            text=True, env=dict(os.environ, **MPI_ENV), timeout=600)
+    output = result.stdout + result.stderr
+    assert "Invalid read" not in output and "Invalid write" not in output, output[-6000:]
+    assert result.returncode == 0, output[-6000:]
