@@ -1,4 +1,6 @@
 """Bad input gives one clear ERROR: line naming the problem and a non-zero exit, never a crash."""
+import re
+
 import pytest
 
 import decks
@@ -134,3 +136,34 @@ def test_compute_pair_local_leaves_no_invalid_access_at_exit(launcher, tmp_path)
     output = result.stdout + result.stderr
     assert "Invalid read" not in output and "Invalid write" not in output, output[-6000:]
     assert result.returncode == 0, output[-6000:]
+
+
+PULLED_CUBE_OFF = """OFF
+8 12 0
+0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n0.3 0.4 -0.5\n0 1 1
+3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4
+3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7
+"""
+
+
+def test_self_intersecting_shape_is_an_error_naming_two_triangles(run_deck, tmp_path):
+    """A cube with one corner pulled through the opposite face: closed, manifold, consistently
+    oriented, but its mass properties are meaningless (it used to gain 2400x its energy)."""
+    (tmp_path / "pulled.off").write_text(PULLED_CUBE_OFF)
+    result = run_deck(BOX + template_line("pulled.off"))
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert "pulled.off" in errors[0] and "intersects itself" in errors[0], errors[0]
+    assert re.search(r"triangles \d+ and \d+ of 12", errors[0]), errors[0]
+
+
+@pytest.mark.parametrize("scale, expected", [("1e-70", "principal moment is not positive"),
+                                             ("1e70", "principal moment is not finite"),
+                                             ("1e-110", "out of the range of double precision")])
+def test_extreme_scale_is_an_error(run_deck, scale, expected):
+    result = run_deck(BOX + template_line("${SHAPES}/rock_70.obj", f" scale {scale}"))
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert "rock_70.obj" in errors[0] and expected in errors[0], errors[0]
