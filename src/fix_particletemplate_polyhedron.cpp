@@ -1,5 +1,7 @@
 #include "fix_particletemplate_polyhedron.h"
 
+#include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <vector>
@@ -51,9 +53,33 @@ static double inner_radius_of(const poly_shape &shape)
   return radius;
 }
 
+// FNV-1a over the topology and the quantized body-frame vertices and volume.
+static double fingerprint_of(const poly_shape &shape)
+{
+  uint64_t hash = 14695981039346656037ULL;
+  const uint64_t prime = 1099511628211ULL;
+  std::vector<int64_t> words;
+  words.push_back(shape.num_vertices);
+  words.push_back(shape.num_triangles);
+  for (int k = 0; k < 3 * shape.num_triangles; k++) words.push_back(shape.triangles[k]);
+  double unit = shape.bounding_radius * 1e-9;
+  for (int k = 0; k < 3 * shape.num_vertices; k++) words.push_back((int64_t) llround(shape.vertices[k] / unit));
+  // The volume to 1e-9 relative, through its binary exponent and mantissa.
+  int exponent = 0;
+  double mantissa = frexp(shape.volume, &exponent);
+  words.push_back(exponent);
+  words.push_back((int64_t) llround(mantissa * 1e9));
+  for (size_t w = 0; w < words.size(); w++)
+    for (int byte = 0; byte < 8; byte++) {
+      hash ^= (uint64_t) ((words[w] >> (8 * byte)) & 0xff);
+      hash *= prime;
+    }
+  return (double) (hash >> 12);  // 52 bits: exact in a double
+}
+
 FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int narg, char **arg)
     : FixTemplateSphere(lmp, narg, base_keywords_first(narg, arg)),
-      shape_index_(0), density_(0.0), scale_(1.0), inner_radius_(0.0), file_(NULL), own_single_(NULL)
+      shape_index_(0), density_(0.0), scale_(1.0), fingerprint_(0.0), inner_radius_(0.0), file_(NULL), own_single_(NULL)
 {
   memset(&shape_, 0, sizeof shape_);
   parse_own_keywords(narg, arg);
@@ -69,6 +95,7 @@ FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int na
     error->warning(FLERR, message);
   }
   inner_radius_ = inner_radius_of(shape_);
+  fingerprint_ = fingerprint_of(shape_);
 
   // Particles refer to a template by number, so a template cannot be replaced
   // in place. Modify::add_fix empties the slot of a fix being redefined

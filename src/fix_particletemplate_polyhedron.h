@@ -28,6 +28,12 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
   int particle_type() const { return atom_type; }
   double density() const { return density_; }
   const char *file() const { return file_; }
+  double scale() const { return scale_; }
+  // A 52-bit hash of the scaled shape (its body-frame triangles and vertices to
+  // 1e-9 of the bounding radius), exact as a double: atom_style polyhedron
+  // stores it per particle in restart files, so a restart read with another
+  // mesh or scale of the same volume is refused.
+  double fingerprint() const { return fingerprint_; }
 
   // What fix particledistribution/discrete asks of a template.
   double volexpect() { return shape_.volume; }
@@ -55,6 +61,7 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
   int shape_index_;
   double density_;
   double scale_;
+  double fingerprint_;
   double inner_radius_;  // of a ball about the centre of mass inside the shape (0 if none is found)
   char *file_;
 

@@ -167,3 +167,39 @@ def test_extreme_scale_is_an_error(run_deck, scale, expected):
     errors = result.error_lines()
     assert len(errors) == 1, result.output
     assert "rock_70.obj" in errors[0] and expected in errors[0], errors[0]
+
+
+def restart_pair_decks(second_template, nprocs=1):
+    """A restart written with a cube template 'grain'; read with `second_template` as 'grain'."""
+    first = (decks.header() + decks.template("grain", "cube.stl", scale=0.03) +
+             "create_polyhedron grain 0.3 0.3 0.3\ncreate_polyhedron grain 0.7 0.7 0.7 vel 0.1 0 0\n"
+             "fix integrate all nve/polyhedron\ntimestep 1e-4\nrun 10\nwrite_restart state.restart\n")
+    second = ("atom_modify sort 0 0\nread_restart ../first/state.restart\n" + second_template +
+              "fix integrate all nve/polyhedron\ntimestep 1e-4\nrun 10\n")
+    return first, second
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_restart_with_another_shape_of_the_same_volume_is_an_error(run_deck, tmp_path, nprocs):
+    """The mass check cannot see this: a 1x2x3 box scaled to the cube's volume has the same mass."""
+    box_scale = 0.03 / 6.0 ** (1.0 / 3.0)
+    first, second = restart_pair_decks(decks.template("grain", "box_1x2x3.off", scale=box_scale), nprocs)
+    written = run_deck(first, nprocs=nprocs, workdir=tmp_path / "first")
+    assert written.returncode == 0, written.output
+    read = run_deck(second, nprocs=nprocs, workdir=tmp_path / "second")
+    assert read.returncode != 0, read.output
+    errors = read.error_lines()
+    assert errors, read.output
+    assert "does not match shape 1" in errors[0] and "'grain'" in errors[0] and "box_1x2x3.off" in errors[0], errors
+
+
+def test_restart_with_another_scale_is_an_error_and_the_same_template_is_not(run_deck, tmp_path):
+    first, second_other = restart_pair_decks(decks.template("grain", "cube.stl", scale=0.031, density=2500.0 *
+                                                            (0.03 / 0.031) ** 3))
+    written = run_deck(first, workdir=tmp_path / "first")
+    assert written.returncode == 0, written.output
+    read = run_deck(second_other, workdir=tmp_path / "second")
+    assert read.returncode != 0 and any("another mesh or scale" in e for e in read.error_lines()), read.output
+    _, second_same = restart_pair_decks(decks.template("grain", "cube.stl", scale=0.03))
+    same = run_deck(second_same, workdir=tmp_path / "same")
+    assert same.returncode == 0, same.output
