@@ -53,11 +53,38 @@ void AtomVecPolyhedron::init()
   AtomVec::init();
   if (domain->dimension != 3) error->all(FLERR, "atom_style polyhedron requires a 3d simulation");
   if (dynamic_cast<DomainWedge *>(domain)) error->all(FLERR, "atom_style polyhedron does not support wedge domains");
+  check_periodic_box();
   check_restart_fingerprints();
   for (int i = 0; i < atom->nlocal; i++) resolve_shape(i);
   check_restart_masses = false;
   // After uncompute, no compute pair/polyhedral/local may be left for init to do this.
   ComputePairPolyhedralLocal::drop_destroyed_recorders(lmp);
+}
+
+// A particle at least as wide as a periodic box length overlaps its own image
+// (the pair style would push it against itself). The bounding diameter bounds
+// the width in every orientation; every template is checked, as insertion may
+// use any of them.
+void AtomVecPolyhedron::check_periodic_box()
+{
+  static const char axes[3] = {'x', 'y', 'z'};
+  for (int i = 0; i < modify->nfix; i++) {
+    Fix *fix = modify->fix[i];
+    if (!fix || strcmp(fix->style, "particletemplate/polyhedron") != 0) continue;
+    FixParticletemplatePolyhedron *shape_template = static_cast<FixParticletemplatePolyhedron *>(fix);
+    double diameter = 2.0 * shape_template->shape().bounding_radius;
+    for (int k = 0; k < 3; k++) {
+      if (!domain->periodicity[k] || domain->prd[k] > diameter) continue;
+      char message[768];
+      snprintf(message, sizeof message,
+               "Periodic box length %g along %c is not larger than the bounding diameter %g of the shape of "
+               "fix particletemplate/polyhedron '%s' (file '%s', scale %g): a particle could touch its own "
+               "periodic image; make the box longer or the shape smaller",
+               domain->prd[k], axes[k], diameter, shape_template->id, shape_template->file(),
+               shape_template->scale());
+      error->all(FLERR, message);
+    }
+  }
 }
 
 // A template of the same volume but another mesh or scale passes the mass

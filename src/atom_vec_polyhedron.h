@@ -76,6 +76,7 @@ class AtomVecPolyhedron : public AtomVec {
   // by unpack_restart, checked against the templates and cleared by init).
   std::map<int, double> restart_fingerprints;
   void check_restart_fingerprints();
+  void check_periodic_box();  // ERROR where a template is as wide as a periodic box length
 
   void shift_for(int pbc_flag, int *pbc, double shift[3]);
   void border_shift_for(int pbc_flag, int *pbc, double shift[3]);

@@ -203,3 +203,27 @@ def test_restart_with_another_scale_is_an_error_and_the_same_template_is_not(run
     _, second_same = restart_pair_decks(decks.template("grain", "cube.stl", scale=0.03))
     same = run_deck(second_same, workdir=tmp_path / "same")
     assert same.returncode == 0, same.output
+
+
+@pytest.mark.parametrize("boundary, length, fails", [("p p p", 0.15, True),    # cube 0.1: diameter 0.173
+                                                     ("f p f", 0.15, True),
+                                                     ("f f f", 0.15, False),   # not periodic: no image
+                                                     ("p p p", 0.18, False)])
+def test_periodic_box_narrower_than_a_particle_is_an_error(run_deck, boundary, length, fails):
+    deck = ("atom_style polyhedron\natom_modify map array sort 0 0\n"
+            f"boundary {boundary}\nnewton off\ncommunicate single vel yes\nunits si\n"
+            f"region box block 0 {length} 0 {length} 0 {length}\ncreate_box 1 box\n" + CONTACT_MATERIAL +
+            "fix cube all particletemplate/polyhedron 15485863 atom_type 1 density constant 2500 "
+            "file ${SHAPES}/cube.stl scale 0.1\n"
+            "pair_style polyhedral/volumetric tangential history damping on\npair_coeff * *\n"
+            f"create_polyhedron cube {length / 2} {length / 2} {length / 2}\n"
+            "fix integrate all nve/polyhedron\ntimestep 1e-6\nrun 10\n")
+    result = run_deck(deck)
+    if not fails:
+        assert result.returncode == 0, result.output
+        return
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert "Periodic box length 0.15" in errors[0] and "'cube'" in errors[0] and "own periodic image" in errors[0], \
+        errors[0]
