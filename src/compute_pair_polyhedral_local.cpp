@@ -35,6 +35,11 @@ void forget(LAMMPS *lmp, Compute *compute)
 }
 }
 
+void ComputePairPolyhedralLocal::recorder_destroyed(LAMMPS *lmp, Compute *compute)
+{
+  destroyed_recorders.push_back(std::make_pair(lmp, compute));
+}
+
 void ComputePairPolyhedralLocal::drop_destroyed_recorders(LAMMPS *lmp)
 {
   PairPolyhedralVolumetric *live = dynamic_cast<PairPolyhedralVolumetric *>(lmp->force->pair);

@@ -22,6 +22,9 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
  public:
   FixParticletemplatePolyhedron(class LAMMPS *, int, char **);
   ~FixParticletemplatePolyhedron();
+  // The first template checks, at each run's set-up, for overlapping particles.
+  void init();
+  void setup(int);
 
   const poly_shape &shape() const { return shape_; }
   int shape_index() const { return shape_index_; }
@@ -64,6 +67,10 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
   double fingerprint_;
   double inner_radius_;  // of a ball about the centre of mass inside the shape (0 if none is found)
   char *file_;
+
+  class Compute *overlap_probe_;               // makes the pair style record the set-up contacts
+  class PairPolyhedralVolumetric *probe_pair_;  // where overlap_probe_ is registered, or NULL
+  void warn_initial_overlaps();
 
   void parse_own_keywords(int narg, char **arg);
   void print_summary();

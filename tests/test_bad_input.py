@@ -227,3 +227,47 @@ def test_periodic_box_narrower_than_a_particle_is_an_error(run_deck, boundary, l
     assert len(errors) == 1, result.output
     assert "Periodic box length 0.15" in errors[0] and "'cube'" in errors[0] and "own periodic image" in errors[0], \
         errors[0]
+
+
+@pytest.mark.parametrize("gap, warned", [(-0.005, True), (-0.0005, False), (0.001, False)])
+def test_overlapping_particles_at_setup_give_a_warning(run_deck, gap, warned):
+    """Two 10 cm cubes overlapping by 5 mm (2.9 % of the bounding diameter) used to fly apart silently."""
+    result = run_deck(two_cubes_deck(gap=gap) + "run 10\nrun 10\n")
+    assert result.returncode == 0, result.output
+    warnings = [w for w in result.warning_lines() if "overlapping particle pairs" in w]
+    if not warned:
+        assert not warnings, warnings
+        return
+    assert warnings, result.output
+    assert "1 of 1 overlapping particle pairs" in warnings[0] and "deeper than 1%" in warnings[0], warnings[0]
+    assert "the deepest by 0.005 (2.89% of it)" in warnings[0], warnings[0]
+
+
+def test_overlap_warning_on_two_ranks(run_deck):
+    deck = two_cubes_deck(gap=-0.005).replace("units si\n", "units si\nprocessors 2 1 1\n")
+    result = run_deck(deck + "run 10\n", nprocs=2)
+    assert result.returncode == 0, result.output
+    warnings = [w for w in result.warning_lines() if "overlapping particle pairs" in w]
+    assert len(warnings) == 1 and "1 of 1 overlapping" in warnings[0], result.output
+
+
+@pytest.mark.parametrize("line, expected", [
+    (template_line("${SHAPES}/cube.stl", " scale abc"),
+     "Fix particletemplate/polyhedron (id t): 'scale' needs a finite number, got 'abc'"),
+    ("fix t all particletemplate/polyhedron 15485863 atom_type 1 density constant heavy file ${SHAPES}/cube.stl\n",
+     "Fix particletemplate/polyhedron (id t): 'density constant' needs a finite number, got 'heavy'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 0.5 vel 0 0 fast\n",
+     "create_polyhedron: 'vel' needs a finite number, got 'fast'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 0.5 omega 1 x 0\n",
+     "create_polyhedron: 'omega' needs a finite number, got 'x'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 0.5 quat 1 0 0 zero\n",
+     "create_polyhedron: 'quat' needs a finite number, got 'zero'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 half 0.5\n",
+     "create_polyhedron: position y needs a finite number, got 'half'"),
+])
+def test_bad_number_names_its_keyword(run_deck, line, expected):
+    result = run_deck(BOX + line)
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert expected in errors[0], errors[0]
