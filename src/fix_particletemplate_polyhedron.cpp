@@ -98,13 +98,15 @@ static double fingerprint_of(const poly_shape &shape)
   words.push_back(shape.num_vertices);
   words.push_back(shape.num_triangles);
   for (int k = 0; k < 3 * shape.num_triangles; k++) words.push_back(shape.triangles[k]);
-  double unit = shape.bounding_radius * 1e-9;
+  // 1e-6 of the bounding radius: any real difference of shape or scale shows, while
+  // rounding differences between builds almost never cross a quantization step.
+  double unit = shape.bounding_radius * 1e-6;
   for (int k = 0; k < 3 * shape.num_vertices; k++) words.push_back((int64_t) llround(shape.vertices[k] / unit));
-  // The volume to 1e-9 relative, through its binary exponent and mantissa.
+  // The volume to 1e-6 relative, through its binary exponent and mantissa.
   int exponent = 0;
   double mantissa = frexp(shape.volume, &exponent);
   words.push_back(exponent);
-  words.push_back((int64_t) llround(mantissa * 1e9));
+  words.push_back((int64_t) llround(mantissa * 1e6));
   for (size_t w = 0; w < words.size(); w++)
     for (int byte = 0; byte < 8; byte++) {
       hash ^= (uint64_t) ((words[w] >> (8 * byte)) & 0xff);
@@ -220,9 +222,9 @@ void FixParticletemplatePolyhedron::setup(int)
 // elastic energy and fly apart; this says so instead of leaving it silent.
 void FixParticletemplatePolyhedron::warn_initial_overlaps()
 {
-  const std::vector<PolyContactRecord> &records = probe_pair_ ? probe_pair_->recorded_contacts()
-                                                              : static_cast<PairPolyhedralVolumetric *>(force->pair)
-                                                                    ->recorded_contacts();
+  // setup() has checked that force->pair is the pair style the probe was registered with.
+  const std::vector<PolyContactRecord> &records =
+      static_cast<PairPolyhedralVolumetric *>(force->pair)->recorded_contacts();
   double smallest_diameter = 0.0;  // without an atom map: the smallest template's
   for (int i = 0; i < modify->nfix; i++)
     if (modify->fix[i] && strcmp(modify->fix[i]->style, kStyle) == 0) {

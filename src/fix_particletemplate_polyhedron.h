@@ -33,7 +33,7 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
   const char *file() const { return file_; }
   double scale() const { return scale_; }
   // A 52-bit hash of the scaled shape (its body-frame triangles and vertices to
-  // 1e-9 of the bounding radius), exact as a double: atom_style polyhedron
+  // 1e-6 of the bounding radius), exact as a double: atom_style polyhedron
   // stores it per particle in restart files, so a restart read with another
   // mesh or scale of the same volume is refused.
   double fingerprint() const { return fingerprint_; }
