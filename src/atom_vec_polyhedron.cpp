@@ -1,4 +1,5 @@
 #include "atom_vec_polyhedron.h"
+#include "compute_pair_polyhedral_local.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -24,6 +25,7 @@ static const int kForwardSize = 7;         // x, quaternion
 static const int kBorderSize = 17;         // x, tag, type, mask, state
 static const int kStateSize = 17;          // radius density rmass omega angmom quat shapetype inertia
 static const int kExchangeBaseSize = 1 + 10 + kStateSize;
+static const int kRestartExtraSize = 1;     // the template's fingerprint
 
 AtomVecPolyhedron::AtomVecPolyhedron(LAMMPS *lmp) : AtomVec(lmp), check_restart_masses(false)
 {
@@ -51,8 +53,59 @@ void AtomVecPolyhedron::init()
   AtomVec::init();
   if (domain->dimension != 3) error->all(FLERR, "atom_style polyhedron requires a 3d simulation");
   if (dynamic_cast<DomainWedge *>(domain)) error->all(FLERR, "atom_style polyhedron does not support wedge domains");
+  check_periodic_box();
+  check_restart_fingerprints();
   for (int i = 0; i < atom->nlocal; i++) resolve_shape(i);
   check_restart_masses = false;
+  // After uncompute, no compute pair/polyhedral/local may be left for init to do this.
+  ComputePairPolyhedralLocal::drop_destroyed_recorders(lmp);
+}
+
+// A particle at least as wide as a periodic box length overlaps its own image
+// (the pair style would push it against itself). The bounding diameter bounds
+// the width in every orientation; every template is checked, as insertion may
+// use any of them.
+void AtomVecPolyhedron::check_periodic_box()
+{
+  static const char axes[3] = {'x', 'y', 'z'};
+  for (int i = 0; i < modify->nfix; i++) {
+    Fix *fix = modify->fix[i];
+    if (!fix || strcmp(fix->style, "particletemplate/polyhedron") != 0) continue;
+    FixParticletemplatePolyhedron *shape_template = static_cast<FixParticletemplatePolyhedron *>(fix);
+    double diameter = 2.0 * shape_template->shape().bounding_radius;
+    for (int k = 0; k < 3; k++) {
+      if (!domain->periodicity[k] || domain->prd[k] > diameter) continue;
+      char message[768];
+      snprintf(message, sizeof message,
+               "Periodic box length %g along %c is not larger than the bounding diameter %g of the shape of "
+               "fix particletemplate/polyhedron '%s' (file '%s', scale %g): a particle could touch its own "
+               "periodic image; make the box longer or the shape smaller",
+               domain->prd[k], axes[k], diameter, shape_template->id, shape_template->file(),
+               shape_template->scale());
+      error->all(FLERR, message);
+    }
+  }
+}
+
+// A template of the same volume but another mesh or scale passes the mass
+// check; the fingerprint stored with each particle does not.
+void AtomVecPolyhedron::check_restart_fingerprints()
+{
+  std::map<int, double> stored;
+  stored.swap(restart_fingerprints);
+  for (std::map<int, double>::const_iterator s = stored.begin(); s != stored.end(); ++s) {
+    FixParticletemplatePolyhedron *shape_template = FixParticletemplatePolyhedron::find(lmp, s->first);
+    if (!shape_template || s->second == 0.0) continue;  // resolve_shape reports a missing template
+    if (shape_template->fingerprint() != s->second) {
+      char message[768];
+      snprintf(message, sizeof message,
+               "Restart file: shape %d does not match shape %d of fix particletemplate/polyhedron '%s' "
+               "(file '%s', scale %g): the particles were written with another mesh or scale; define the "
+               "templates of the run that wrote the restart, with the same files and scales, in the same order",
+               s->first, s->first, shape_template->id, shape_template->file(), shape_template->scale());
+      error->one(FLERR, message);
+    }
+  }
 }
 
 void AtomVecPolyhedron::resolve_shape(int i)
@@ -405,7 +458,7 @@ int AtomVecPolyhedron::unpack_exchange(double *buf)
 int AtomVecPolyhedron::size_restart()
 {
   int nlocal = atom->nlocal;
-  int n = kExchangeBaseSize * nlocal;
+  int n = (kExchangeBaseSize + kRestartExtraSize) * nlocal;
   for (int iextra = 0; iextra < atom->nextra_restart; iextra++)
     for (int i = 0; i < nlocal; i++) n += modify->fix[atom->extra_restart[iextra]]->size_restart(i);
   return n;
@@ -421,6 +474,8 @@ int AtomVecPolyhedron::pack_restart(int i, double *buf)
   buf[m++] = ubuf(image[i]).d;
   for (int k = 0; k < 3; k++) buf[m++] = v[i][k];
   m += pack_state(i, &buf[m]);
+  FixParticletemplatePolyhedron *shape_template = FixParticletemplatePolyhedron::find(lmp, shapetype[i]);
+  buf[m++] = shape_template ? shape_template->fingerprint() : 0.0;
   for (int iextra = 0; iextra < atom->nextra_restart; iextra++)
     m += modify->fix[atom->extra_restart[iextra]]->pack_restart(i, &buf[m]);
   buf[0] = m;
@@ -442,6 +497,7 @@ int AtomVecPolyhedron::unpack_restart(double *buf)
   image[nlocal] = (tagint) ubuf(buf[m++]).i;
   for (int k = 0; k < 3; k++) v[nlocal][k] = buf[m++];
   m += unpack_state(nlocal, &buf[m]);
+  restart_fingerprints[shapetype[nlocal]] = buf[m++];
   check_restart_masses = true;
 
   double **extra = atom->extra;

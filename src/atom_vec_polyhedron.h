@@ -20,6 +20,8 @@
 #ifndef LMP_ATOM_VEC_POLYHEDRON_H
 #define LMP_ATOM_VEC_POLYHEDRON_H
 
+#include <map>
+
 #include "atom_vec.h"
 
 namespace LAMMPS_NS {
@@ -70,6 +72,11 @@ class AtomVecPolyhedron : public AtomVec {
   int *shapetype;
 
   bool check_restart_masses;  // set by unpack_restart, checked and cleared by init
+  // Shape number -> template fingerprint stored in the restart file read (set
+  // by unpack_restart, checked against the templates and cleared by init).
+  std::map<int, double> restart_fingerprints;
+  void check_restart_fingerprints();
+  void check_periodic_box();  // ERROR where a template is as wide as a periodic box length
 
   void shift_for(int pbc_flag, int *pbc, double shift[3]);
   void border_shift_for(int pbc_flag, int *pbc, double shift[3]);

@@ -3,6 +3,10 @@
 #include <mpi.h>
 #include <string.h>
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 #include "atom.h"
 #include "error.h"
 #include "force.h"
@@ -12,6 +16,40 @@
 #include "pair_polyhedral_volumetric.h"
 
 using namespace LAMMPS_NS;
+
+// The pair style keeps a pointer to each recording compute. A compute must not
+// reach the pair from its destructor: at exit LIGGGHTS deletes force (and the
+// pair) before modify (and the computes), so force->pair is freed memory then.
+// A destroyed compute is instead remembered here and dropped from the pair's
+// list at the next init (record_contacts only compares the pointer), before the
+// pair can consult it. A compute constructed at a remembered address takes the
+// entry back.
+namespace {
+std::vector<std::pair<LAMMPS *, Compute *> > destroyed_recorders;
+
+void forget(LAMMPS *lmp, Compute *compute)
+{
+  destroyed_recorders.erase(std::remove(destroyed_recorders.begin(), destroyed_recorders.end(),
+                                        std::make_pair(lmp, compute)),
+                            destroyed_recorders.end());
+}
+}
+
+void ComputePairPolyhedralLocal::recorder_destroyed(LAMMPS *lmp, Compute *compute)
+{
+  destroyed_recorders.push_back(std::make_pair(lmp, compute));
+}
+
+void ComputePairPolyhedralLocal::drop_destroyed_recorders(LAMMPS *lmp)
+{
+  PairPolyhedralVolumetric *live = dynamic_cast<PairPolyhedralVolumetric *>(lmp->force->pair);
+  std::vector<std::pair<LAMMPS *, Compute *> > kept;
+  for (size_t k = 0; k < destroyed_recorders.size(); k++) {
+    if (destroyed_recorders[k].first != lmp) kept.push_back(destroyed_recorders[k]);
+    else if (live) live->record_contacts(destroyed_recorders[k].second, false);
+  }
+  destroyed_recorders.swap(kept);
+}
 
 // Columns: id1 id2 volume depth nx ny nz cx cy cz fnx fny fnz ftx fty ftz
 // (n from particle 1 to 2, c the contact point, forces on particle 2).
@@ -31,16 +69,19 @@ ComputePairPolyhedralLocal::ComputePairPolyhedralLocal(LAMMPS *lmp, int &iarg, i
   size_local_rows = 0;
   array_local = NULL;
   vector_local = NULL;
+  forget(lmp, this);
 }
 
 ComputePairPolyhedralLocal::~ComputePairPolyhedralLocal()
 {
-  if (pair && force->pair == pair) pair->record_contacts(this, false);
+  // No force->pair here (see destroyed_recorders above).
+  if (pair) destroyed_recorders.push_back(std::make_pair(lmp, (Compute *) this));
   memory->destroy(array_local);
 }
 
 void ComputePairPolyhedralLocal::init()
 {
+  drop_destroyed_recorders(lmp);
   pair = dynamic_cast<PairPolyhedralVolumetric *>(force->pair);
   if (!pair) error->compute_error(FLERR, this, "requires pair_style polyhedral/volumetric");
   pair->record_contacts(this, true);

@@ -24,6 +24,14 @@ class ComputePairPolyhedralLocal : public Compute {
 
   enum { kColumns = 16 };
 
+  // Removes computes destroyed since the last init from the pair style's
+  // recorders; called from every init that precedes a run (this compute's and
+  // atom_style polyhedron's), never from a destructor.
+  static void drop_destroyed_recorders(class LAMMPS *);
+  // For any recorder (this compute or another) deleted while it may still be
+  // registered with the pair style: dropped at the next init.
+  static void recorder_destroyed(class LAMMPS *, class Compute *);
+
  private:
   class PairPolyhedralVolumetric *pair;
   int capacity;

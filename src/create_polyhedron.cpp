@@ -2,6 +2,8 @@
 
 #include <math.h>
 #include <mpi.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "atom.h"
@@ -19,6 +21,20 @@ using namespace LAMMPS_NS;
 
 CreatePolyhedron::CreatePolyhedron(LAMMPS *lmp) : Pointers(lmp) {}
 
+// A finite number, all of `text`, or an error naming what it was for
+// (LIGGGHTS' force->numeric says only "Expected floating point parameter").
+static double number(Error *error, const char *what, const char *text)
+{
+  char *end = NULL;
+  double value = strtod(text, &end);
+  if (end == text || *end != '\0' || !isfinite(value)) {
+    char message[256];
+    snprintf(message, sizeof message, "create_polyhedron: %s needs a finite number, got '%s'", what, text);
+    error->all(FLERR, message);
+  }
+  return value;
+}
+
 void CreatePolyhedron::command(int narg, char **arg)
 {
   if (!domain->box_exist) error->all(FLERR, "create_polyhedron command before simulation box is defined");
@@ -34,11 +50,12 @@ void CreatePolyhedron::command(int narg, char **arg)
   }
 
   double position[3], quat[4] = {1.0, 0.0, 0.0, 0.0}, velocity[3] = {0.0, 0.0, 0.0}, omega[3] = {0.0, 0.0, 0.0};
-  for (int k = 0; k < 3; k++) position[k] = force->numeric(FLERR, arg[1 + k]);
+  static const char *const position_names[3] = {"position x", "position y", "position z"};
+  for (int k = 0; k < 3; k++) position[k] = number(error, position_names[k], arg[1 + k]);
   for (int iarg = 4; iarg < narg;) {
     if (strcmp(arg[iarg], "quat") == 0) {
       if (iarg + 5 > narg) error->all(FLERR, "create_polyhedron: 'quat' needs 4 values w i j k");
-      for (int k = 0; k < 4; k++) quat[k] = force->numeric(FLERR, arg[iarg + 1 + k]);
+      for (int k = 0; k < 4; k++) quat[k] = number(error, "'quat'", arg[iarg + 1 + k]);
       double norm = sqrt(quat[0] * quat[0] + quat[1] * quat[1] + quat[2] * quat[2] + quat[3] * quat[3]);
       if (!(norm > 0.0)) error->all(FLERR, "create_polyhedron: 'quat' must not be zero");
       poly_quat_normalize(quat);
@@ -46,7 +63,7 @@ void CreatePolyhedron::command(int narg, char **arg)
     } else if (strcmp(arg[iarg], "vel") == 0 || strcmp(arg[iarg], "omega") == 0) {
       double *target = strcmp(arg[iarg], "vel") == 0 ? velocity : omega;
       if (iarg + 4 > narg) error->all(FLERR, "create_polyhedron: 'vel' and 'omega' need 3 values");
-      for (int k = 0; k < 3; k++) target[k] = force->numeric(FLERR, arg[iarg + 1 + k]);
+      for (int k = 0; k < 3; k++) target[k] = number(error, target == velocity ? "'vel'" : "'omega'", arg[iarg + 1 + k]);
       iarg += 4;
     } else {
       char message[256];

@@ -1,11 +1,19 @@
 #include "fix_particletemplate_polyhedron.h"
 
+#include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <vector>
 
+#include <mpi.h>
+
 #include "atom.h"
 #include "comm.h"
+#include "compute.h"
+#include "compute_pair_polyhedral_local.h"
+#include "pair_polyhedral_volumetric.h"
+#include "update.h"
 #include "domain.h"
 #include "error.h"
 #include "force.h"
@@ -20,8 +28,38 @@ static const char *const kStyle = "particletemplate/polyhedron";
 // the first one it does not know; ours (file, scale) therefore go last.
 static bool is_own_keyword(const char *word) { return strcmp(word, "file") == 0 || strcmp(word, "scale") == 0; }
 
-static char **base_keywords_first(int narg, char **arg)
+// A finite number, all of `text`; LIGGGHTS' force->numeric would not name the keyword.
+static bool parse_number(const char *text, double *value)
 {
+  char *end = NULL;
+  *value = strtod(text, &end);
+  return end != text && *end == '\0' && isfinite(*value);
+}
+
+static void require_number(LAMMPS *lmp, char **arg, const char *keyword, const char *text)
+{
+  double value;
+  if (parse_number(text, &value)) return;
+  char message[512];
+  snprintf(message, sizeof message, "Fix %s (id %s): '%s' needs a finite number, got '%s'", kStyle, arg[0], keyword,
+           text);
+  lmp->error->all(FLERR, message);
+}
+
+// Numbers of our keywords and of `density constant` are checked here, before
+// FixTemplateSphere reads them with a message that does not name the keyword.
+static void check_numbers(LAMMPS *lmp, int narg, char **arg)
+{
+  for (int i = 4; i < narg; i++) {
+    if (strcmp(arg[i], "scale") == 0 && i + 1 < narg) require_number(lmp, arg, "scale", arg[i + 1]);
+    if (strcmp(arg[i], "density") == 0 && i + 2 < narg && strcmp(arg[i + 1], "constant") == 0)
+      require_number(lmp, arg, "density constant", arg[i + 2]);
+  }
+}
+
+static char **base_keywords_first(LAMMPS *lmp, int narg, char **arg)
+{
+  if (narg >= 1) check_numbers(lmp, narg, arg);
   static std::vector<char *> ordered;
   ordered.assign(arg, arg + (narg < 4 ? narg : 4));
   std::vector<char *> own;
@@ -51,9 +89,59 @@ static double inner_radius_of(const poly_shape &shape)
   return radius;
 }
 
+// FNV-1a over the topology and the quantized body-frame vertices and volume.
+static double fingerprint_of(const poly_shape &shape)
+{
+  uint64_t hash = 14695981039346656037ULL;
+  const uint64_t prime = 1099511628211ULL;
+  std::vector<int64_t> words;
+  words.push_back(shape.num_vertices);
+  words.push_back(shape.num_triangles);
+  for (int k = 0; k < 3 * shape.num_triangles; k++) words.push_back(shape.triangles[k]);
+  // 1e-6 of the bounding radius: any real difference of shape or scale shows, while
+  // rounding differences between builds almost never cross a quantization step.
+  double unit = shape.bounding_radius * 1e-6;
+  for (int k = 0; k < 3 * shape.num_vertices; k++) words.push_back((int64_t) llround(shape.vertices[k] / unit));
+  // The volume to 1e-6 relative, through its binary exponent and mantissa.
+  int exponent = 0;
+  double mantissa = frexp(shape.volume, &exponent);
+  words.push_back(exponent);
+  words.push_back((int64_t) llround(mantissa * 1e6));
+  for (size_t w = 0; w < words.size(); w++)
+    for (int byte = 0; byte < 8; byte++) {
+      hash ^= (uint64_t) ((words[w] >> (8 * byte)) & 0xff);
+      hash *= prime;
+    }
+  return (double) (hash >> 12);  // 52 bits: exact in a double
+}
+
+namespace {
+// A compute that only has a schedule: registered with the pair style as a
+// recorder for the set-up step, so that the pair style keeps that step's
+// contacts; never added to modify.
+class OverlapProbe : public Compute {
+ public:
+  OverlapProbe(LAMMPS *lmp, int &iarg, char **arg) : Compute(lmp, iarg, 3, arg) {}
+  void init() {}
+};
+
+OverlapProbe *new_overlap_probe(LAMMPS *lmp)
+{
+  char id[] = "poly_initial_overlaps", group[] = "all", style[] = "pair/polyhedral/local";
+  char *arg[3] = {id, group, style};
+  int iarg = 3;
+  return new OverlapProbe(lmp, iarg, arg);
+}
+
+// Overlaps deeper than this fraction of the smaller particle's bounding
+// diameter are reported at set-up.
+const double kInitialOverlapFraction = 0.01;
+}
+
 FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int narg, char **arg)
-    : FixTemplateSphere(lmp, narg, base_keywords_first(narg, arg)),
-      shape_index_(0), density_(0.0), scale_(1.0), inner_radius_(0.0), file_(NULL), own_single_(NULL)
+    : FixTemplateSphere(lmp, narg, base_keywords_first(lmp, narg, arg)),
+      shape_index_(0), density_(0.0), scale_(1.0), fingerprint_(0.0), inner_radius_(0.0), file_(NULL),
+      overlap_probe_(NULL), probe_pair_(NULL), own_single_(NULL)
 {
   memset(&shape_, 0, sizeof shape_);
   parse_own_keywords(narg, arg);
@@ -69,6 +157,7 @@ FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int na
     error->warning(FLERR, message);
   }
   inner_radius_ = inner_radius_of(shape_);
+  fingerprint_ = fingerprint_of(shape_);
 
   // Particles refer to a template by number, so a template cannot be replaced
   // in place. Modify::add_fix empties the slot of a fix being redefined
@@ -97,6 +186,83 @@ FixParticletemplatePolyhedron::~FixParticletemplatePolyhedron()
   if (pti_list) delete_ptilist();
   poly_shape_free(&shape_);
   delete[] file_;
+  // The pair style may be gone already (at exit force goes before modify).
+  if (probe_pair_) ComputePairPolyhedralLocal::recorder_destroyed(lmp, overlap_probe_);
+  delete overlap_probe_;
+}
+
+void FixParticletemplatePolyhedron::init()
+{
+  FixTemplateSphere::init();
+  // One template does it: the first in modify's list.
+  for (int i = 0; i < modify->nfix; i++)
+    if (modify->fix[i] && strcmp(modify->fix[i]->style, kStyle) == 0) {
+      if (modify->fix[i] != this) return;
+      break;
+    }
+  PairPolyhedralVolumetric *pair = dynamic_cast<PairPolyhedralVolumetric *>(force->pair);
+  if (!pair) return;
+  if (!overlap_probe_) overlap_probe_ = new_overlap_probe(lmp);
+  overlap_probe_->clearstep();
+  overlap_probe_->addstep(update->ntimestep);
+  pair->record_contacts(overlap_probe_, true);
+  probe_pair_ = pair;
+}
+
+void FixParticletemplatePolyhedron::setup(int)
+{
+  if (!probe_pair_) return;
+  PairPolyhedralVolumetric *pair = probe_pair_;
+  pair->record_contacts(overlap_probe_, false);
+  probe_pair_ = NULL;
+  if (pair == force->pair && pair->records_step() == update->ntimestep) warn_initial_overlaps();
+}
+
+// Particles created or inserted overlapping each other start with a large
+// elastic energy and fly apart; this says so instead of leaving it silent.
+void FixParticletemplatePolyhedron::warn_initial_overlaps()
+{
+  // setup() has checked that force->pair is the pair style the probe was registered with.
+  const std::vector<PolyContactRecord> &records =
+      static_cast<PairPolyhedralVolumetric *>(force->pair)->recorded_contacts();
+  double smallest_diameter = 0.0;  // without an atom map: the smallest template's
+  for (int i = 0; i < modify->nfix; i++)
+    if (modify->fix[i] && strcmp(modify->fix[i]->style, kStyle) == 0) {
+      double d = 2.0 * static_cast<FixParticletemplatePolyhedron *>(modify->fix[i])->shape_.bounding_radius;
+      if (smallest_diameter == 0.0 || d < smallest_diameter) smallest_diameter = d;
+    }
+  double counts[2] = {0.0, 0.0}, deepest[2] = {0.0, 0.0};  // count, pairs; deepest fraction, its depth
+  for (size_t r = 0; r < records.size(); r++) {
+    double size = smallest_diameter;
+    if (atom->map_style) {
+      int i = atom->map(records[r].id_i), j = atom->map(records[r].id_j);
+      if (i >= 0 && j >= 0) size = 2.0 * (atom->radius[i] < atom->radius[j] ? atom->radius[i] : atom->radius[j]);
+    }
+    double fraction = size > 0.0 ? records[r].depth / size : 0.0;
+    counts[1] += 1.0;
+    if (fraction > kInitialOverlapFraction) counts[0] += 1.0;
+    if (fraction > deepest[0]) {
+      deepest[0] = fraction;
+      deepest[1] = records[r].depth;
+    }
+  }
+  double total[2];
+  MPI_Allreduce(counts, total, 2, MPI_DOUBLE, MPI_SUM, world);
+  struct {
+    double value;
+    int rank;
+  } mine = {deepest[0], comm->me}, worst;
+  MPI_Allreduce(&mine, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  double depth = deepest[1];
+  MPI_Bcast(&depth, 1, MPI_DOUBLE, worst.rank, world);
+  if (total[0] <= 0.0 || comm->me != 0) return;
+  char message[512];
+  snprintf(message, sizeof message,
+           "%.0f of %.0f overlapping particle pairs at the start of this run overlap deeper than %g%% of the "
+           "smaller particle's bounding diameter; the deepest by %g (%.3g%% of it). They will be pushed apart "
+           "violently: check create_polyhedron positions, insertion with overlapcheck yes, or the data file",
+           total[0], total[1], 100.0 * kInitialOverlapFraction, depth, 100.0 * worst.value);
+  error->warning(FLERR, message);
 }
 
 // FixTemplateSphere has checked seed, atom_type, density and region; this

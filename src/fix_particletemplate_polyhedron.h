@@ -22,12 +22,21 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
  public:
   FixParticletemplatePolyhedron(class LAMMPS *, int, char **);
   ~FixParticletemplatePolyhedron();
+  // The first template checks, at each run's set-up, for overlapping particles.
+  void init();
+  void setup(int);
 
   const poly_shape &shape() const { return shape_; }
   int shape_index() const { return shape_index_; }
   int particle_type() const { return atom_type; }
   double density() const { return density_; }
   const char *file() const { return file_; }
+  double scale() const { return scale_; }
+  // A 52-bit hash of the scaled shape (its body-frame triangles and vertices to
+  // 1e-6 of the bounding radius), exact as a double: atom_style polyhedron
+  // stores it per particle in restart files, so a restart read with another
+  // mesh or scale of the same volume is refused.
+  double fingerprint() const { return fingerprint_; }
 
   // What fix particledistribution/discrete asks of a template.
   double volexpect() { return shape_.volume; }
@@ -55,8 +64,13 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
   int shape_index_;
   double density_;
   double scale_;
+  double fingerprint_;
   double inner_radius_;  // of a ball about the centre of mass inside the shape (0 if none is found)
   char *file_;
+
+  class Compute *overlap_probe_;               // makes the pair style record the set-up contacts
+  class PairPolyhedralVolumetric *probe_pair_;  // where overlap_probe_ is registered, or NULL
+  void warn_initial_overlaps();
 
   void parse_own_keywords(int narg, char **arg);
   void print_summary();

@@ -5,6 +5,15 @@
  */
 #include "poly_shape.h"
 #include "poly_message.h"
+/* Exact orientation signs; poly_rigid.h, which it includes, is C99/C++ but not pedantic C11. */
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpedantic"
+#endif
+#include "poly_exact.h"
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 #include <float.h>
 #include <limits.h>
@@ -554,6 +563,200 @@ static poly_status poly_build_edges(poly_build *b)
   return POLY_OK;
 }
 
+/* ------------------------------------------------------------ self-intersection */
+
+/* A closed, consistently oriented, connected triangulation can still pass
+ * through itself (a corner pulled through the opposite face); its divergence-
+ * theorem integrals are then meaningless (negative principal moments). Every
+ * pair of triangles whose bounding boxes touch is tested with exact orientation
+ * signs (poly_exact.h); touching counts as intersecting, as triangles that share
+ * no vertex never touch in an embedded surface. Triangles sharing a vertex may
+ * meet only there, triangles sharing an edge only along it. */
+
+static int poly_sign(double value) { return (value > 0.0) - (value < 0.0); }
+
+/* Segment pq against triangle abc, the segment not lying in the triangle's plane:
+ * 1 if they meet (touching included). */
+static int poly_segment_meets_triangle(const double *p, const double *q, const double *a, const double *b,
+                                       const double *c)
+{
+  int sp = poly_sign(poly_orient(a, b, c, p)), sq = poly_sign(poly_orient(a, b, c, q));
+  if (sp == sq) return 0; /* both on one side, or both in the plane (coplanar: handled apart) */
+  int s1 = poly_sign(poly_orient(p, q, a, b)), s2 = poly_sign(poly_orient(p, q, b, c)),
+      s3 = poly_sign(poly_orient(p, q, c, a));
+  return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+/* 2-d orientation in the plane of two coplanar triangles (axis `drop` dropped). */
+static double poly_orient2(const double *a, const double *b, const double *c, int drop)
+{
+  int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
+  return (b[i] - a[i]) * (c[j] - a[j]) - (b[j] - a[j]) * (c[i] - a[i]);
+}
+
+/* Two coplanar triangles without a common vertex: 1 if they overlap (an edge of
+ * one properly crosses an edge of the other, or a vertex is strictly inside). */
+static int poly_coplanar_triangles_meet(const double *const t1[3], const double *const t2[3], int drop)
+{
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      const double *p = t1[i], *q = t1[(i + 1) % 3], *r = t2[j], *s = t2[(j + 1) % 3];
+      double o1 = poly_orient2(p, q, r, drop), o2 = poly_orient2(p, q, s, drop);
+      double o3 = poly_orient2(r, s, p, drop), o4 = poly_orient2(r, s, q, drop);
+      if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 1;
+    }
+  for (int pass = 0; pass < 2; pass++) {
+    const double *const *inner = pass ? t2 : t1, *const *outer = pass ? t1 : t2;
+    for (int i = 0; i < 3; i++) {
+      double o1 = poly_orient2(outer[0], outer[1], inner[i], drop), o2 = poly_orient2(outer[1], outer[2], inner[i], drop),
+             o3 = poly_orient2(outer[2], outer[0], inner[i], drop);
+      if ((o1 > 0 && o2 > 0 && o3 > 0) || (o1 < 0 && o2 < 0 && o3 < 0)) return 1;
+    }
+  }
+  return 0;
+}
+
+/* Whether the direction a - v, with a in the plane of triangle (v, c, d), points
+ * into that triangle's corner at v (along one of its edges included). */
+static int poly_direction_in_corner(const double *v, const double *a, const double *c, const double *d)
+{
+  double u[3], e[3], f[3], n[3], ue[3], uf[3];
+  poly_sub3(a, v, u);
+  poly_sub3(c, v, e);
+  poly_sub3(d, v, f);
+  poly_cross3(e, f, n);
+  poly_cross3(e, u, ue);
+  poly_cross3(u, f, uf);
+  double d1 = poly_dot3(n, ue), d2 = poly_dot3(n, uf);
+  double tolerance = 1e-12 * sqrt(poly_dot3(n, n) * poly_dot3(u, u)) *
+                     (sqrt(poly_dot3(e, e)) + sqrt(poly_dot3(f, f)));
+  return d1 >= -tolerance && d2 >= -tolerance && (d1 > tolerance || d2 > tolerance);
+}
+
+static int poly_triangles_intersect(const poly_build *b, int t1, int t2)
+{
+  const int *i1 = b->triangles + 3 * t1, *i2 = b->triangles + 3 * t2;
+  int shared1[3] = {-1, -1, -1}, shared = 0; /* shared1[k]: corner of t2 equal to corner k of t1 */
+  for (int k = 0; k < 3; k++)
+    for (int l = 0; l < 3; l++)
+      if (i1[k] == i2[l]) {
+        shared1[k] = l;
+        shared++;
+      }
+  const double *p1[3], *p2[3];
+  for (int k = 0; k < 3; k++) {
+    p1[k] = poly_build_vertex(b, i1[k]);
+    p2[k] = poly_build_vertex(b, i2[k]);
+  }
+  /* The same triangle twice: in a closed, connected mesh only a two-triangle
+   * pillow, which the volume check reports. */
+  if (shared >= 3) return 0;
+  if (shared == 2) {
+    /* Along their common edge v-w only, unless folded flat onto each other. */
+    int k = shared1[0] < 0 ? 0 : shared1[1] < 0 ? 1 : 2; /* t1's corner off the edge */
+    int l = 3 - shared1[(k + 1) % 3] - shared1[(k + 2) % 3];
+    const double *v = p1[(k + 1) % 3], *w = p1[(k + 2) % 3], *a = p1[k], *c = p2[l];
+    if (poly_orient(v, w, a, c) != 0.0) return 0;
+    double e[3], u[3], x[3], n1[3], n2[3];
+    poly_sub3(w, v, e);
+    poly_sub3(a, v, u);
+    poly_sub3(c, v, x);
+    poly_cross3(e, u, n1);
+    poly_cross3(e, x, n2);
+    return poly_dot3(n1, n2) > 0.0;
+  }
+  if (shared == 1) {
+    int k = shared1[0] >= 0 ? 0 : shared1[1] >= 0 ? 1 : 2, l = shared1[k];
+    const double *v = p1[k], *a = p1[(k + 1) % 3], *bb = p1[(k + 2) % 3];
+    const double *c = p2[(l + 1) % 3], *d = p2[(l + 2) % 3];
+    if (poly_segment_meets_triangle(a, bb, v, c, d) || poly_segment_meets_triangle(c, d, v, a, bb)) return 1;
+    /* An edge from v lying in the other triangle's plane, pointing into it. */
+    if (poly_orient(v, c, d, a) == 0.0 && poly_direction_in_corner(v, a, c, d)) return 1;
+    if (poly_orient(v, c, d, bb) == 0.0 && poly_direction_in_corner(v, bb, c, d)) return 1;
+    if (poly_orient(v, a, bb, c) == 0.0 && poly_direction_in_corner(v, c, a, bb)) return 1;
+    if (poly_orient(v, a, bb, d) == 0.0 && poly_direction_in_corner(v, d, a, bb)) return 1;
+    return 0;
+  }
+  int coplanar = 1;
+  for (int k = 0; k < 3; k++)
+    if (poly_orient(p1[0], p1[1], p1[2], p2[k]) != 0.0) coplanar = 0;
+  if (coplanar) {
+    double u[3], w[3], n[3];
+    poly_sub3(p1[1], p1[0], u);
+    poly_sub3(p1[2], p1[0], w);
+    poly_cross3(u, w, n);
+    int drop = fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : fabs(n[1]) >= fabs(n[2]) ? 1 : 2;
+    return poly_coplanar_triangles_meet(p1, p2, drop);
+  }
+  for (int k = 0; k < 3; k++) {
+    if (poly_segment_meets_triangle(p1[k], p1[(k + 1) % 3], p2[0], p2[1], p2[2])) return 1;
+    if (poly_segment_meets_triangle(p2[k], p2[(k + 1) % 3], p1[0], p1[1], p1[2])) return 1;
+  }
+  return 0;
+}
+
+typedef struct poly_box_entry {
+  double low[3], high[3];
+  int triangle;
+} poly_box_entry;
+
+static int poly_box_entry_compare(const void *pa, const void *pb)
+{
+  const poly_box_entry *a = (const poly_box_entry *)pa, *b = (const poly_box_entry *)pb;
+  if (a->low[0] != b->low[0]) return a->low[0] < b->low[0] ? -1 : 1;
+  return (a->triangle > b->triangle) - (a->triangle < b->triangle);
+}
+
+/* Sweep along x over the triangles' bounding boxes; the exact test for each pair
+ * of touching boxes. */
+static poly_status poly_check_self_intersection(poly_build *b)
+{
+  poly_box_entry *boxes = (poly_box_entry *)malloc(sizeof(poly_box_entry) * (size_t)b->num_triangles);
+  if (!boxes) return poly_build_out_of_memory(b);
+  for (int t = 0; t < b->num_triangles; t++) {
+    boxes[t].triangle = t;
+    for (int k = 0; k < 3; k++) {
+      boxes[t].low[k] = HUGE_VAL;
+      boxes[t].high[k] = -HUGE_VAL;
+    }
+    for (int c = 0; c < 3; c++) {
+      const double *p = poly_build_vertex(b, b->triangles[3 * t + c]);
+      for (int k = 0; k < 3; k++) {
+        if (p[k] < boxes[t].low[k]) boxes[t].low[k] = p[k];
+        if (p[k] > boxes[t].high[k]) boxes[t].high[k] = p[k];
+      }
+    }
+  }
+  qsort(boxes, (size_t)b->num_triangles, sizeof(poly_box_entry), poly_box_entry_compare);
+  int found1 = -1, found2 = -1;
+  for (int i = 0; i < b->num_triangles && found1 < 0; i++)
+    for (int j = i + 1; j < b->num_triangles && boxes[j].low[0] <= boxes[i].high[0]; j++) {
+      if (boxes[j].low[1] > boxes[i].high[1] || boxes[i].low[1] > boxes[j].high[1] ||
+          boxes[j].low[2] > boxes[i].high[2] || boxes[i].low[2] > boxes[j].high[2])
+        continue;
+      int t1 = boxes[i].triangle, t2 = boxes[j].triangle;
+      if (poly_triangles_intersect(b, t1, t2)) {
+        found1 = t1 < t2 ? t1 : t2;
+        found2 = t1 < t2 ? t2 : t1;
+        break;
+      }
+    }
+  free(boxes);
+  if (found1 < 0) return POLY_OK;
+  const double *p[6];
+  for (int c = 0; c < 3; c++) {
+    p[c] = poly_build_vertex(b, b->triangles[3 * found1 + c]);
+    p[3 + c] = poly_build_vertex(b, b->triangles[3 * found2 + c]);
+  }
+  return poly_fail(b->message, b->message_size, POLY_ERROR_SELF_INTERSECTION,
+                   "shape mesh '%s' intersects itself: triangles %d and %d of %d cross "
+                   "((%.9g,%.9g,%.9g)-(%.9g,%.9g,%.9g)-(%.9g,%.9g,%.9g) and "
+                   "(%.9g,%.9g,%.9g)-(%.9g,%.9g,%.9g)-(%.9g,%.9g,%.9g))",
+                   b->name, found1 + 1, found2 + 1, b->num_triangles, p[0][0], p[0][1], p[0][2], p[1][0],
+                   p[1][1], p[1][2], p[2][0], p[2][1], p[2][2], p[3][0], p[3][1], p[3][2], p[4][0], p[4][1],
+                   p[4][2], p[5][0], p[5][1], p[5][2]);
+}
+
 static poly_status poly_build_validate(poly_build *b, const poly_mesh *mesh)
 {
   poly_status status = poly_build_copy(b, mesh);
@@ -563,6 +766,7 @@ static poly_status poly_build_validate(poly_build *b, const poly_mesh *mesh)
   if (status == POLY_OK) status = poly_build_vertex_triangles(b);
   if (status == POLY_OK) status = poly_check_vertex_fans(b);
   if (status == POLY_OK) status = poly_check_connected(b);
+  if (status == POLY_OK) status = poly_check_self_intersection(b);
   return status;
 }
 
@@ -649,6 +853,32 @@ static poly_status poly_build_finish(poly_build *b, const poly_mass_properties *
   return POLY_OK;
 }
 
+/* Mass properties a rigid body can have: finite, positive, and principal moments
+ * that obey the triangle inequality (I1 + I2 >= I3 for every ordering; with
+ * ascending moments only the largest needs checking). An extreme scale gives
+ * zero (underflow) or non-finite moments; a mesh passing through itself could
+ * give negative ones. The shape is freed on failure. */
+static poly_status poly_check_mass_properties(poly_shape *shape, double scale, const char *name, char *message,
+                                              size_t message_size)
+{
+  const double *m = shape->principal_moments;
+  const char *reason = NULL;
+  if (!isfinite(shape->volume) || !(shape->volume > 0.0)) reason = "the volume is not positive and finite";
+  else if (!isfinite(m[0]) || !isfinite(m[1]) || !isfinite(m[2])) reason = "a principal moment is not finite";
+  else if (!(m[0] > 0.0 && m[1] > 0.0 && m[2] > 0.0)) reason = "a principal moment is not positive";
+  else if (m[0] + m[1] < m[2] * (1.0 - 1e-9))
+    reason = "the principal moments break the triangle inequality I1 + I2 >= I3";
+  else if (!isfinite(shape->bounding_radius) || !(shape->bounding_radius > 0.0))
+    reason = "the bounding radius is not positive and finite";
+  if (!reason) return POLY_OK;
+  poly_status status = poly_fail(message, message_size, POLY_ERROR_MASS,
+                                 "shape mesh '%s' (scale %g) has impossible mass properties: %s (volume %g, "
+                                 "principal moments/density %g %g %g)",
+                                 name, scale, reason, shape->volume, m[0], m[1], m[2]);
+  poly_shape_free(shape);
+  return status;
+}
+
 poly_status poly_shape_build(const poly_mesh *mesh, double scale, const char *name,
                              poly_shape *shape, char *message, size_t message_size)
 {
@@ -671,11 +901,26 @@ poly_status poly_shape_build(const poly_mesh *mesh, double scale, const char *na
     poly_build_free(&b);
     return status;
   }
-  for (int i = 0; i < 3 * b.num_vertices; i++) b.vertices[i] *= scale;
+  for (int i = 0; i < 3 * b.num_vertices; i++) {
+    b.vertices[i] *= scale;
+    if (!isfinite(b.vertices[i])) {
+      poly_build_free(&b);
+      return poly_fail(message, message_size, POLY_ERROR_MASS,
+                       "shape mesh '%s': scale %g makes its coordinates overflow", b.name, scale);
+    }
+  }
   poly_mass_properties mass;
   poly_mass_properties_compute(b.vertices, b.triangles, b.num_triangles, &mass);
   double size = poly_bounding_box_diagonal(b.vertices, b.num_vertices);
-  if (!(fabs(mass.volume) > POLY_ZERO_VOLUME_RELATIVE * size * size * size)) {
+  double size_cubed = size * size * size;
+  if (!isfinite(mass.volume) || !isfinite(size_cubed) || !(size_cubed > 0.0)) {
+    poly_build_free(&b);
+    return poly_fail(message, message_size, POLY_ERROR_MASS,
+                     "shape mesh '%s': with scale %g its volume (%g for a bounding-box diagonal of %g) is "
+                     "out of the range of double precision",
+                     b.name, scale, mass.volume, size);
+  }
+  if (!(fabs(mass.volume) > POLY_ZERO_VOLUME_RELATIVE * size_cubed)) {
     poly_build_free(&b);
     return poly_fail(message, message_size, POLY_ERROR_VOLUME,
                      "shape mesh '%s' encloses zero volume (%g for a bounding-box diagonal of %g)",
@@ -704,7 +949,7 @@ poly_status poly_shape_build(const poly_mesh *mesh, double scale, const char *na
     return status;
   }
   shape->was_flipped = was_flipped;
-  return POLY_OK;
+  return poly_check_mass_properties(shape, scale, b.name, message, message_size);
 }
 
 poly_status poly_shape_load(const char *path, double scale, poly_shape *shape, char *message,

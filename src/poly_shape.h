@@ -30,7 +30,9 @@ typedef enum poly_status {
   POLY_ERROR_ORIENTATION,   /* neighbouring triangles disagree on orientation */
   POLY_ERROR_DISCONNECTED,  /* more than one connected component */
   POLY_ERROR_VOLUME,        /* zero enclosed volume */
-  POLY_ERROR_MEMORY
+  POLY_ERROR_MEMORY,
+  POLY_ERROR_SELF_INTERSECTION, /* two triangles cross (or touch away from their common vertices) */
+  POLY_ERROR_MASS           /* non-finite, non-positive or impossible mass properties (e.g. extreme scale) */
 } poly_status;
 
 /* A raw triangle soup as read from a file (file frame, file units). */

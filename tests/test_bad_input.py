@@ -1,4 +1,6 @@
 """Bad input gives one clear ERROR: line naming the problem and a non-zero exit, never a crash."""
+import re
+
 import pytest
 
 import decks
@@ -95,3 +97,177 @@ def test_set_density_changes_mass_not_shape(run_deck):
     assert result.returncode == 0, result.output
     _, rows = decks.read_dump(result.workdir / "mass.txt")
     assert abs(rows[1][1] - 3000 * 0.1 ** 3) < 1e-12
+
+
+CONTACT_MATERIAL = ("fix m1 all property/global youngsModulus peratomtype 1e7\n"
+                    "fix m2 all property/global poissonsRatio peratomtype 0.3\n"
+                    "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5\n"
+                    "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5\n")
+
+
+def two_cubes_deck(boundary="f f f", gap=-0.005, extent=1.0):
+    return ("atom_style polyhedron\natom_modify map array sort 0 0\n"
+            f"boundary {boundary}\nnewton off\ncommunicate single vel yes\nunits si\n"
+            f"region box block -{extent} {extent} -{extent} {extent} -{extent} {extent}\ncreate_box 1 box\n" +
+            CONTACT_MATERIAL +
+            "fix cube all particletemplate/polyhedron 15485863 atom_type 1 density constant 2500 "
+            "file ${SHAPES}/cube.stl scale 0.1\n"
+            "pair_style polyhedral/volumetric tangential history damping on\npair_coeff * *\n"
+            f"create_polyhedron cube 0 0 0\ncreate_polyhedron cube {0.1 + gap!r} 0 0\n"
+            "fix integrate all nve/polyhedron\ntimestep 1e-6\n")
+
+
+def test_compute_pair_local_leaves_no_invalid_access_at_exit(launcher, tmp_path):
+    """The compute's destructor used to read force->pair after LIGGGHTS had deleted force (valgrind:
+    invalid read and write at exit); an uncomputed recorder must not be left in the pair style either."""
+    import os
+    import shutil
+    import subprocess
+    from conftest import MPI_ENV, SHAPES
+    if not shutil.which("valgrind"):
+        pytest.skip("valgrind is not installed")
+    deck = tmp_path / "in.valgrind"
+    deck.write_text(two_cubes_deck() + "compute contacts all pair/polyhedral/local\n"
+                    "compute other all pair/polyhedral/local\nthermo_style custom step c_contacts\n"
+                    "thermo 5\nrun 10\nuncompute other\nrun 10\n")
+    result = subprocess.run(["valgrind", "--error-exitcode=9", str(launcher), "-in", str(deck), "-echo", "none",
+                             "-log", "none", "-var", "SHAPES", str(SHAPES)], cwd=tmp_path, capture_output=True,
+                            text=True, env=dict(os.environ, **MPI_ENV), timeout=600)
+    output = result.stdout + result.stderr
+    assert "Invalid read" not in output and "Invalid write" not in output, output[-6000:]
+    assert result.returncode == 0, output[-6000:]
+
+
+PULLED_CUBE_OFF = """OFF
+8 12 0
+0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n0.3 0.4 -0.5\n0 1 1
+3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4
+3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7
+"""
+
+
+def test_self_intersecting_shape_is_an_error_naming_two_triangles(run_deck, tmp_path):
+    """A cube with one corner pulled through the opposite face: closed, manifold, consistently
+    oriented, but its mass properties are meaningless (it used to gain 2400x its energy)."""
+    (tmp_path / "pulled.off").write_text(PULLED_CUBE_OFF)
+    result = run_deck(BOX + template_line("pulled.off"))
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert "pulled.off" in errors[0] and "intersects itself" in errors[0], errors[0]
+    assert re.search(r"triangles \d+ and \d+ of 12", errors[0]), errors[0]
+
+
+@pytest.mark.parametrize("scale, expected", [("1e-70", "principal moment is not positive"),
+                                             ("1e70", "principal moment is not finite"),
+                                             ("1e-110", "out of the range of double precision")])
+def test_extreme_scale_is_an_error(run_deck, scale, expected):
+    result = run_deck(BOX + template_line("${SHAPES}/rock_70.obj", f" scale {scale}"))
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert "rock_70.obj" in errors[0] and expected in errors[0], errors[0]
+
+
+def restart_pair_decks(second_template, nprocs=1):
+    """A restart written with a cube template 'grain'; read with `second_template` as 'grain'."""
+    first = (decks.header() + decks.template("grain", "cube.stl", scale=0.03) +
+             "create_polyhedron grain 0.3 0.3 0.3\ncreate_polyhedron grain 0.7 0.7 0.7 vel 0.1 0 0\n"
+             "fix integrate all nve/polyhedron\ntimestep 1e-4\nrun 10\nwrite_restart state.restart\n")
+    second = ("atom_modify sort 0 0\nread_restart ../first/state.restart\n" + second_template +
+              "fix integrate all nve/polyhedron\ntimestep 1e-4\nrun 10\n")
+    return first, second
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_restart_with_another_shape_of_the_same_volume_is_an_error(run_deck, tmp_path, nprocs):
+    """The mass check cannot see this: a 1x2x3 box scaled to the cube's volume has the same mass."""
+    box_scale = 0.03 / 6.0 ** (1.0 / 3.0)
+    first, second = restart_pair_decks(decks.template("grain", "box_1x2x3.off", scale=box_scale), nprocs)
+    written = run_deck(first, nprocs=nprocs, workdir=tmp_path / "first")
+    assert written.returncode == 0, written.output
+    read = run_deck(second, nprocs=nprocs, workdir=tmp_path / "second")
+    assert read.returncode != 0, read.output
+    errors = read.error_lines()
+    assert errors, read.output
+    assert "does not match shape 1" in errors[0] and "'grain'" in errors[0] and "box_1x2x3.off" in errors[0], errors
+
+
+def test_restart_with_another_scale_is_an_error_and_the_same_template_is_not(run_deck, tmp_path):
+    first, second_other = restart_pair_decks(decks.template("grain", "cube.stl", scale=0.031, density=2500.0 *
+                                                            (0.03 / 0.031) ** 3))
+    written = run_deck(first, workdir=tmp_path / "first")
+    assert written.returncode == 0, written.output
+    read = run_deck(second_other, workdir=tmp_path / "second")
+    assert read.returncode != 0 and any("another mesh or scale" in e for e in read.error_lines()), read.output
+    _, second_same = restart_pair_decks(decks.template("grain", "cube.stl", scale=0.03))
+    same = run_deck(second_same, workdir=tmp_path / "same")
+    assert same.returncode == 0, same.output
+
+
+@pytest.mark.parametrize("boundary, length, fails", [("p p p", 0.15, True),    # cube 0.1: diameter 0.173
+                                                     ("f p f", 0.15, True),
+                                                     ("f f f", 0.15, False),   # not periodic: no image
+                                                     ("p p p", 0.18, False)])
+def test_periodic_box_narrower_than_a_particle_is_an_error(run_deck, boundary, length, fails):
+    deck = ("atom_style polyhedron\natom_modify map array sort 0 0\n"
+            f"boundary {boundary}\nnewton off\ncommunicate single vel yes\nunits si\n"
+            f"region box block 0 {length} 0 {length} 0 {length}\ncreate_box 1 box\n" + CONTACT_MATERIAL +
+            "fix cube all particletemplate/polyhedron 15485863 atom_type 1 density constant 2500 "
+            "file ${SHAPES}/cube.stl scale 0.1\n"
+            "pair_style polyhedral/volumetric tangential history damping on\npair_coeff * *\n"
+            f"create_polyhedron cube {length / 2} {length / 2} {length / 2}\n"
+            "fix integrate all nve/polyhedron\ntimestep 1e-6\nrun 10\n")
+    result = run_deck(deck)
+    if not fails:
+        assert result.returncode == 0, result.output
+        return
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert "Periodic box length 0.15" in errors[0] and "'cube'" in errors[0] and "own periodic image" in errors[0], \
+        errors[0]
+
+
+@pytest.mark.parametrize("gap, warned", [(-0.005, True), (-0.0005, False), (0.001, False)])
+def test_overlapping_particles_at_setup_give_a_warning(run_deck, gap, warned):
+    """Two 10 cm cubes overlapping by 5 mm (2.9 % of the bounding diameter) used to fly apart silently."""
+    result = run_deck(two_cubes_deck(gap=gap) + "run 10\nrun 10\n")
+    assert result.returncode == 0, result.output
+    warnings = [w for w in result.warning_lines() if "overlapping particle pairs" in w]
+    if not warned:
+        assert not warnings, warnings
+        return
+    assert warnings, result.output
+    assert "1 of 1 overlapping particle pairs" in warnings[0] and "deeper than 1%" in warnings[0], warnings[0]
+    assert "the deepest by 0.005 (2.89% of it)" in warnings[0], warnings[0]
+
+
+def test_overlap_warning_on_two_ranks(run_deck):
+    deck = two_cubes_deck(gap=-0.005).replace("units si\n", "units si\nprocessors 2 1 1\n")
+    result = run_deck(deck + "run 10\n", nprocs=2)
+    assert result.returncode == 0, result.output
+    warnings = [w for w in result.warning_lines() if "overlapping particle pairs" in w]
+    assert len(warnings) == 1 and "1 of 1 overlapping" in warnings[0], result.output
+
+
+@pytest.mark.parametrize("line, expected", [
+    (template_line("${SHAPES}/cube.stl", " scale abc"),
+     "Fix particletemplate/polyhedron (id t): 'scale' needs a finite number, got 'abc'"),
+    ("fix t all particletemplate/polyhedron 15485863 atom_type 1 density constant heavy file ${SHAPES}/cube.stl\n",
+     "Fix particletemplate/polyhedron (id t): 'density constant' needs a finite number, got 'heavy'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 0.5 vel 0 0 fast\n",
+     "create_polyhedron: 'vel' needs a finite number, got 'fast'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 0.5 omega 1 x 0\n",
+     "create_polyhedron: 'omega' needs a finite number, got 'x'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 0.5 quat 1 0 0 zero\n",
+     "create_polyhedron: 'quat' needs a finite number, got 'zero'"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 half 0.5\n",
+     "create_polyhedron: position y needs a finite number, got 'half'"),
+])
+def test_bad_number_names_its_keyword(run_deck, line, expected):
+    result = run_deck(BOX + line)
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert expected in errors[0], errors[0]
