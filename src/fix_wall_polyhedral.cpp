@@ -129,6 +129,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
   extvector = 1;
   restart_global = 0;
   for (int k = 0; k < 10; k++) wall_force[k] = wall_force_all[k] = 0.0;
+  for (int k = 0; k < 3; k++) setup_overlaps[k] = 0.0;
   degenerate.smoothed = degenerate.recomputed = degenerate.inconsistent = 0.0;
 
   history_id = new char[strlen(id) + 16];
@@ -141,8 +142,13 @@ int FixWallPolyhedral::parse_mesh(int iarg, int narg, char **arg)
   if (iarg + 3 >= narg || strcmp(arg[iarg + 1], "n_meshes") != 0 || strcmp(arg[iarg + 3], "meshes") != 0)
     error->all(FLERR, "Fix wall/polyhedral: expected 'mesh n_meshes K meshes MESH-ID ...'");
   int count = force->inumeric(FLERR, arg[iarg + 2]);
-  if (count < 1 || iarg + 4 + count > narg)
-    error->all(FLERR, "Fix wall/polyhedral: 'mesh n_meshes K meshes' needs K >= 1 mesh IDs");
+  if (count < 1) error->all(FLERR, "Fix wall/polyhedral: 'mesh n_meshes K meshes' needs K >= 1 mesh IDs");
+  if (iarg + 4 + count > narg) {
+    char message[256];
+    snprintf(message, sizeof message, "Fix wall/polyhedral: 'n_meshes %d' but %d mesh ID%s after 'meshes'", count,
+             narg - iarg - 4, narg - iarg - 4 == 1 ? "" : "s");
+    error->all(FLERR, message);
+  }
   for (int k = 0; k < count; k++) {
     const char *mesh_id = arg[iarg + 4 + k];
     int index = modify->find_fix(mesh_id);
@@ -394,9 +400,28 @@ void FixWallPolyhedral::setup(int)
 {
   force_summed = false;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
+  for (int k = 0; k < 3; k++) setup_overlaps[k] = 0.0;
   if (meshes.empty()) apply_primitive(false);
   if (!meshes.empty()) compute_mesh_overlaps();
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, false);
+  warn_initial_overlaps();
+}
+
+// Particles created or inserted into a wall are pushed out violently; say so at set-up, as the templates do
+// for particle pairs (fix particletemplate/polyhedron), with the same 1 % of the bounding diameter.
+void FixWallPolyhedral::warn_initial_overlaps()
+{
+  double total[2], deepest = 0.0;
+  MPI_Allreduce(setup_overlaps, total, 2, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(setup_overlaps + 2, &deepest, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (total[1] <= 0.0 || comm->me != 0) return;
+  char message[512];
+  snprintf(message, sizeof message,
+           "Fix wall/polyhedral %s: %.0f of %.0f particle-wall contacts at the start of this run are deeper than 1%% "
+           "of the particle's bounding diameter, the deepest %.3g%% of it. They will be pushed out violently: check "
+           "create_polyhedron positions, insertion regions, or the data file", id, total[1], total[0],
+           100.0 * deepest);
+  error->warning(FLERR, message);
 }
 
 void FixWallPolyhedral::post_force(int)
@@ -417,6 +442,12 @@ void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, b
                                       double *pressure_shift)
 {
   double **x = atom->x, **v = atom->v, **omega = atom->omega, **f = atom->f, **torque = atom->torque;
+  if (!advance_history) {  // set-up: tally for warn_initial_overlaps
+    double fraction = depth / (2.0 * atom->radius[i]);
+    setup_overlaps[0] += 1.0;
+    if (fraction > 0.01) setup_overlaps[1] += 1.0;
+    if (fraction > setup_overlaps[2]) setup_overlaps[2] = fraction;
+  }
   poly_contact_input input;
   poly_contact_input_set_geometry(&input, volume, depth, normal, centroid);
   if (use_rocking) poly_contact_input_set_second_moment(&input, second_moment);

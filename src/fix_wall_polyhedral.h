@@ -118,6 +118,8 @@ class FixWallPolyhedral : public Fix {
   double wall_force[10], wall_force_all[10];  // force on the wall (3), contacts, torque on the wall (3),
                                               // then degenerate pieces since the fix was defined (3)
   poly_degenerate_counts degenerate;
+  double setup_overlaps[3];  // at set-up: contacts, those deeper than 1 % of the bounding diameter, deepest fraction
+  void warn_initial_overlaps();
   bool force_summed;
 };
 

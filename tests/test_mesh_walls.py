@@ -210,6 +210,8 @@ def flipped_grid():
     ("fix floor all wall/polyhedral mesh n_meshes 1 meshes gravity\n", None,
      "ERROR: Fix wall/polyhedral: fix 'gravity' is a gravity, not a fix mesh/surface"),
     ("fix floor all wall/polyhedral mesh n_meshes 2 meshes floor_mesh\n", meshes.grid(1, 0.1),
+     "ERROR: Fix wall/polyhedral: 'n_meshes 2' but 1 mesh ID after 'meshes'"),
+    ("fix floor all wall/polyhedral mesh n_meshes 0 meshes floor_mesh\n", meshes.grid(1, 0.1),
      "ERROR: Fix wall/polyhedral: 'mesh n_meshes K meshes' needs K >= 1 mesh IDs"),
     ("fix floor all wall/polyhedral mesh n_meshes 1 meshes floor_mesh primitive type 2 zplane 0\n",
      meshes.grid(1, 0.1), "ERROR: Fix wall/polyhedral: either 'primitive' or 'mesh', not both"),

@@ -254,3 +254,17 @@ def test_wall_contact_crosses_ranks(run_deck, tmp_path):
     deck = scene("fix floor all wall/polyhedral primitive type 2 zplane 0.0\n", f"-0.005 0 {EDGE / 2}",
                  gravity=f"{math.sin(tilt)!r} 0 {-math.cos(tilt)!r}", steps=15000)
     check_crosses_ranks(run_deck, tmp_path, deck, "wall contact")
+
+
+@pytest.mark.parametrize("sunk,warns", [(0.004, True), (0.0, False)])
+def test_particle_created_inside_a_wall_is_reported(run_deck, tmp_path, sunk, warns):
+    """A cube (20 mm) created 4 mm into the floor is pushed out violently: the wall warns at set-up with the
+    count and the deepest overlap (4 mm of the 34.6 mm bounding diameter: 11.5 %); a cube
+    resting on it does not warn."""
+    result = run_deck(scene("fix floor all wall/polyhedral primitive type 2 zplane 0.0\n",
+                            f"0 0 {EDGE / 2 - sunk!r}", steps=10))
+    assert result.returncode == 0, result.output[-3000:]
+    lines = [w for w in result.warning_lines() if "particle-wall contacts at the start" in w]
+    assert bool(lines) == warns, result.warning_lines()
+    if warns:
+        assert "1 of 1 particle-wall contacts" in lines[0] and "11.5%" in lines[0], lines[0]
