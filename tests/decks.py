@@ -26,6 +26,14 @@ def template(id, file, scale=1.0, density=2500.0, atom_type=1, seed=15485863):
     return TEMPLATE.format(id=id, file=file, scale=scale, density=density, atom_type=atom_type, seed=seed)
 
 
+def materials(youngs="1e7", poisson=0.25, restitution=0.5, friction=0.5):
+    """fix property/global for two atom types of one material (particles and walls)."""
+    return (f"fix m1 all property/global youngsModulus peratomtype {youngs} {youngs}\n"
+            f"fix m2 all property/global poissonsRatio peratomtype {poisson} {poisson}\n"
+            "fix m3 all property/global coefficientRestitution peratomtypepair 2" + f" {restitution}" * 4 + "\n"
+            "fix m4 all property/global coefficientFriction peratomtypepair 2" + f" {friction}" * 4 + "\n")
+
+
 def held_gravity(group, angle):
     """fix gravity (ID gravity) of `group`, `angle` degrees from -z towards +x."""
     tilt = math.radians(angle)

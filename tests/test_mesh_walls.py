@@ -137,11 +137,8 @@ def drum_deck(tmp_path, pair="pair_style polyhedral/volumetric\n", processors="2
     cubes = "".join(f"create_polyhedron cube {x} {y} {z} quat 0.9 0.3 -0.2 0.25\n"
                     for x in (-0.02, 0.0, 0.02) for y in (-0.008, 0.008) for z in (-0.03, -0.012))
     deck = (decks.header(boundary="f f f", lo=-0.07, hi=0.07, ntypes=2, processors=processors) +
-            "neighbor 0.002 bin\nneigh_modify delay 0\n"
-            "fix m1 all property/global youngsModulus peratomtype 1e7 1e7\n"
-            "fix m2 all property/global poissonsRatio peratomtype 0.25 0.25\n"
-            "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
-            "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n" +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n" +
+            decks.materials() +
             decks.template("cube", "cube.stl", scale=0.01, atom_type=1) +
             pair + "pair_coeff * *\n"
             "fix dmesh all mesh/surface/stress file ../drum.stl type 2\n"
@@ -280,11 +277,8 @@ def cubes_deck(wall_stl, positions, steps, lo=-0.1, hi=0.1, velocity="0.8 -0.5 -
     """10 mm cubes at `positions` thrown (each at `velocity`) at the mesh `wall_stl` (fix wall/polyhedral
     ID wall); a text dump of every particle at the end."""
     text = (decks.header(boundary="f f f", lo=lo, hi=hi, ntypes=2) +
-            "neighbor 0.002 bin\nneigh_modify delay 0\n"
-            "fix m1 all property/global youngsModulus peratomtype 1e7 1e7\n"
-            "fix m2 all property/global poissonsRatio peratomtype 0.25 0.25\n"
-            "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
-            "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n" +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n" +
+            decks.materials() +
             decks.template("cube", "cube.stl", scale=0.01, atom_type=1) +
             "pair_style polyhedral/volumetric\npair_coeff * *\n")
     for k, (x, y, z) in enumerate(positions):
