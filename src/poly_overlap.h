@@ -86,6 +86,14 @@ typedef struct poly_overlap_result {
     int capacity_vertices, capacity_triangles, capacity_points;                                     \
     int use_filter;                    /* 1 (default): half-space filter; 0: all triangles, even of separated pairs */ \
     int want_second_moment;            /* 1: also the result's second_moment (default 0) */              \
+    int use_records;                   /* 1 (default): crossings decided once (poly_overlap_records_impl.h); \
+                                          0: the reference path (ray parity, every kept triangle pair) */   \
+    int capacity_records, capacity_runs;                                                            \
+    int records_overflows;             /* passes that took the reference path as the records did not fit */ \
+    REAL *record_lambda, *record_entering; /* per crossing record: parameter along the edge, +-1 */  \
+    int *record_triangle, *record_edge;    /* the other body's triangle crossed, and the edge */      \
+    int *runs;                         /* per edge tested: edge, first record, count */              \
+    int *chord_buckets, *chord_ends;   /* per triangle of A; per record end (triangle of B, record) */ \
     REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
     REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \
     REAL *normals_b;                   /* B's unit normals in the local frame */                   \

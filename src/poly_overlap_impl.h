@@ -15,6 +15,17 @@
 
 #ifndef POLY_OVERLAP_IMPL_COMMON
 #define POLY_OVERLAP_IMPL_COMMON
+/* The crossing records (poly_overlap_records_impl.h) need workspace memory
+ * that would push cubes and Schoenhardt polyhedra out of a GPU thread's local
+ * array (gpu/poly_gpu.h): the CUDA build lays out no records and takes the
+ * reference path, whose results are the same bits. */
+#ifndef POLY_OVERLAP_RECORDS
+#if defined(__CUDACC__)
+#define POLY_OVERLAP_RECORDS 0
+#else
+#define POLY_OVERLAP_RECORDS 1
+#endif
+#endif
 /* The exact predicates decide only the rare uncertain cases, and each inlined
  * copy of their expansion arithmetic brings its own arrays: on the GPU they
  * stay out of line, so a thread's stack holds one frame of them and the hot
@@ -114,10 +125,17 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   /* Nodes: vertices inside plus edge crossings; a few per triangle covers any
    * realistic overlap, and more are found again rather than lost. (The apexes
    * took 2 nodes' worth per triangle, so the total, and which shapes fit a GPU
-   * thread's local memory, did not change.) */
+   * thread's local memory, did not change.) Crossing records (CPU only, see
+   * POLY_OVERLAP_RECORDS): as many as nodes, each crossing being one, and more
+   * take the reference path; runs: one per edge of both bodies (a closed mesh
+   * has 3/2 as many edges as triangles); chord ends: two per record, bucketed
+   * by A's triangles. */
   size_t np = 2 * nv + 2 * nt + 64;
-  size_t reals = 3 * nv + 3 * nv + 4 * nt + 4 * nt + 3 * nt + 6 * nt + 6 * nt + 3 * nt + 3 * nt + 2 * nt + 3 * np;
-  size_t ints = 2 * nt;
+  size_t nr = POLY_OVERLAP_RECORDS ? np : 0, nruns = POLY_OVERLAP_RECORDS ? 3 * nt : 0;
+  size_t nbuckets = POLY_OVERLAP_RECORDS ? nt : 0;
+  size_t reals = 3 * nv + 3 * nv + 4 * nt + 4 * nt + 3 * nt + 6 * nt + 6 * nt + 3 * nt + 3 * nt + 2 * nt + 3 * np +
+                 2 * nr;
+  size_t ints = 2 * nt + 2 * nr + 3 * nruns + nbuckets + 4 * nr;
   size_t bytes = sizeof(R) * reals + sizeof(int) * ints + 2 * nt + 2 * nv;
   if (!ws || !memory) return bytes;
   R *r = (R *)memory;
@@ -132,9 +150,16 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->apex_b = r; r += 3 * nt;
   ws->crossings = r; r += 2 * nt; /* parameters, then directions */
   ws->points = r; r += 3 * np;
+  ws->record_lambda = r; r += nr;
+  ws->record_entering = r; r += nr;
   int *n = (int *)r;
   ws->kept_list_a = n; n += nt;
   ws->kept_list_b = n; n += nt;
+  ws->record_triangle = n; n += nr;
+  ws->record_edge = n; n += nr;
+  ws->runs = n; n += 3 * nruns;
+  ws->chord_buckets = n; n += nbuckets;
+  ws->chord_ends = n; n += 4 * nr;
   unsigned char *c = (unsigned char *)n;
   ws->kept_a = c; c += nt;
   ws->kept_b = c; c += nt;
@@ -143,6 +168,10 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->capacity_vertices = (int)nv;
   ws->capacity_triangles = (int)nt;
   ws->capacity_points = (int)np;
+  ws->capacity_records = (int)nr;
+  ws->capacity_runs = (int)nruns;
+  ws->use_records = POLY_OVERLAP_RECORDS;
+  ws->records_overflows = 0;
   ws->use_filter = 1;
   ws->want_second_moment = 0;
   return bytes;
@@ -270,6 +299,65 @@ POLY_INLINE int POLY_FN(point_inside)(const R *x, const R *ray, R ray_length, in
   return crossings & 1;
 }
 
+/* The inside parts of edge e of `mine` (p0 -> p1, from its lower vertex; `inside` the state of p0), given its
+ * crossings with the other body sorted along it (parameters `lambdas`, +1 in `entering` where it enters):
+ * each part adds a segment to both triangles of the edge, in their own orientations, and each crossing a node. */
+POLY_INLINE void POLY_FN(edge_inside_parts)(const POLY_FN(shape_view) *mine, int e, const R *p0, const R *p1,
+                                            int inside, const R *lambdas, const R *entering, int count,
+                                            const R *my_unit_normals, R *my_apexes, int mine_is_b,
+                                            POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc,
+                                            int *num_points)
+{
+  if (count == 0 && !inside) return;
+
+  R direction[3];
+  POLY_FN(sub)(p1, p0, direction);
+  R start = 0;
+  int forward = mine->edge_triangles[2 * e], backward = mine->edge_triangles[2 * e + 1];
+  /* Crossings whose rounded positions came out of order (an edge nearly in the
+   * plane of a face it crosses) would pair the wrong ends. Then the inside part
+   * is written as the chain inside(p0) [p0, p1] + sum over crossings of
+   * +-[x_i, p1], whose ends match the chords at every x_i in any order. */
+  int ordered = 1;
+  for (int c = 0, state = inside; c < count && ordered; c++, state = !state) ordered = (entering[c] > 0) == !state;
+  if (!ordered) {
+    const R *n_forward = my_unit_normals + 3 * forward, *n_backward = my_unit_normals + 3 * backward;
+    R *apex_forward = my_apexes + 3 * forward, *apex_backward = my_apexes + 3 * backward;
+    for (int c = 0; c < count; c++) {
+      R x[3];
+      for (int k = 0; k < 3; k++) x[k] = p0[k] + lambdas[c] * direction[k];
+      POLY_FN(add_point)(ws, num_points, x);
+      const R *from = entering[c] > 0 ? x : p1, *to = entering[c] > 0 ? p1 : x;
+      POLY_FN(add_segment)(acc, apex_forward, n_forward, from, to, !mine_is_b);
+      POLY_FN(add_segment)(acc, apex_backward, n_backward, to, from, !mine_is_b);
+    }
+    if (inside) {
+      POLY_FN(add_segment)(acc, apex_forward, n_forward, p0, p1, !mine_is_b);
+      POLY_FN(add_segment)(acc, apex_backward, n_backward, p1, p0, !mine_is_b);
+    }
+    return;
+  }
+  for (int c = 0; c <= count; c++) {
+    R stop = c < count ? lambdas[c] : (R)1;
+    if (c < count) {
+      R x[3];
+      for (int k = 0; k < 3; k++) x[k] = p0[k] + stop * direction[k];
+      POLY_FN(add_point)(ws, num_points, x);
+    }
+    if (inside && stop > start) {
+      R x1[3], x2[3];
+      for (int k = 0; k < 3; k++) {
+        x1[k] = p0[k] + start * direction[k];
+        x2[k] = p0[k] + stop * direction[k];
+      }
+      POLY_FN(add_segment)(acc, my_apexes + 3 * forward, my_unit_normals + 3 * forward, x1, x2, !mine_is_b);
+      POLY_FN(add_segment)(acc, my_apexes + 3 * backward, my_unit_normals + 3 * backward, x2, x1, !mine_is_b);
+    }
+    inside = !inside;
+    start = stop;
+  }
+}
+
 /* Inside parts of every edge of `mine` (crossing `other`): each adds a segment to
  * both triangles of the edge, in their own orientations. */
 POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, const R *my_vertices,
@@ -317,54 +405,8 @@ POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, cons
       fprintf(stderr, "inconsistent edge %d (%d,%d) of %s: in0=%d in1=%d count=%d p0=(%g %g %g) p1=(%g %g %g)\n", e, v0, v1, mine_is_b ? "B" : "A", inside, my_inside[v1], count, p0[0], p0[1], p0[2], p1[0], p1[1], p1[2]);
 #endif
     }
-    if (count == 0 && !inside) continue;
-
-    R direction[3];
-    POLY_FN(sub)(p1, p0, direction);
-    R start = 0;
-    int forward = mine->edge_triangles[2 * e], backward = mine->edge_triangles[2 * e + 1];
-    /* Crossings whose rounded positions came out of order (an edge nearly in the
-     * plane of a face it crosses) would pair the wrong ends. Then the inside part
-     * is written as the chain inside(p0) [p0, p1] + sum over crossings of
-     * +-[x_i, p1], whose ends match the chords at every x_i in any order. */
-    int ordered = 1;
-    for (int c = 0, state = inside; c < count && ordered; c++, state = !state) ordered = (entering[c] > 0) == !state;
-    if (!ordered) {
-      const R *n_forward = my_unit_normals + 3 * forward, *n_backward = my_unit_normals + 3 * backward;
-      R *apex_forward = my_apexes + 3 * forward, *apex_backward = my_apexes + 3 * backward;
-      for (int c = 0; c < count; c++) {
-        R x[3];
-        for (int k = 0; k < 3; k++) x[k] = p0[k] + ws->crossings[c] * direction[k];
-        POLY_FN(add_point)(ws, num_points, x);
-        const R *from = entering[c] > 0 ? x : p1, *to = entering[c] > 0 ? p1 : x;
-        POLY_FN(add_segment)(acc, apex_forward, n_forward, from, to, !mine_is_b);
-        POLY_FN(add_segment)(acc, apex_backward, n_backward, to, from, !mine_is_b);
-      }
-      if (inside) {
-        POLY_FN(add_segment)(acc, apex_forward, n_forward, p0, p1, !mine_is_b);
-        POLY_FN(add_segment)(acc, apex_backward, n_backward, p1, p0, !mine_is_b);
-      }
-      continue;
-    }
-    for (int c = 0; c <= count; c++) {
-      R stop = c < count ? ws->crossings[c] : (R)1;
-      if (c < count) {
-        R x[3];
-        for (int k = 0; k < 3; k++) x[k] = p0[k] + stop * direction[k];
-        POLY_FN(add_point)(ws, num_points, x);
-      }
-      if (inside && stop > start) {
-        R x1[3], x2[3];
-        for (int k = 0; k < 3; k++) {
-          x1[k] = p0[k] + start * direction[k];
-          x2[k] = p0[k] + stop * direction[k];
-        }
-        POLY_FN(add_segment)(acc, my_apexes + 3 * forward, my_unit_normals + 3 * forward, x1, x2, !mine_is_b);
-        POLY_FN(add_segment)(acc, my_apexes + 3 * backward, my_unit_normals + 3 * backward, x2, x1, !mine_is_b);
-      }
-      inside = !inside;
-      start = stop;
-    }
+    POLY_FN(edge_inside_parts)(mine, e, p0, p1, inside, ws->crossings, entering, count, my_unit_normals, my_apexes,
+                               mine_is_b, ws, acc, num_points);
   }
 }
 
@@ -572,6 +614,8 @@ POLY_INLINE int POLY_FN(triangles_flush)(const R *va, const int *ta, const R *pl
   return 1;
 }
 
+#include "poly_overlap_records_impl.h"
+
 /* One evaluation of the boundary sums of A n B, B placed by rotation and
  * translation in A's body frame. `use_filter` 0: every triangle, no early exit
  * (the path no slab rounding can touch). `flush_tolerance` > 0: look for flush
@@ -690,6 +734,44 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   ray_b[ray_axis] = axis_d[ray_axis] > 0 ? (R)1 : (R)-1;
   ray_a[ray_axis] = -ray_b[ray_axis];
   int num_points = 0;
+  if (ws->use_records && a->num_edges + b->num_edges <= ws->capacity_runs) {
+    int num_records = 0, num_runs_a = 0, num_runs_b = 0, flush = 0;
+    int *runs_a = ws->runs;
+    int fits = POLY_FN(find_crossings)(a, va, ws->planes_a, ws->bounds_a, a->face_normals, 0, b, vb, ws->planes_b,
+                                       ws->bounds_b, ws->normals_b, ws->kept_list_b, num_kept_b, axis, limit_a,
+                                       tolerance, ws, &num_records, runs_a, &num_runs_a, &flush) == 0;
+    int records_b = num_records;
+    int *runs_b = runs_a + 3 * num_runs_a;
+    fits = fits && POLY_FN(find_crossings)(b, vb, ws->planes_b, ws->bounds_b, ws->normals_b, 1, a, va, ws->planes_a,
+                                           ws->bounds_a, a->face_normals, ws->kept_list_a, num_kept_a, axis, limit_b,
+                                           tolerance, ws, &num_records, runs_b, &num_runs_b, &flush) == 0;
+    if (fits) {
+      int inconsistent = 0;
+      POLY_FN(settle_inside)(a, va, 0, axis, limit_a, box_b_low, box_b_high, runs_a, num_runs_a, ray_a, ray_length, b,
+                             vb, ws->planes_b, ws->bounds_b, ws->kept_list_b, num_kept_b, ws->inside_a, ws,
+                             &num_points, &inconsistent);
+      POLY_FN(settle_inside)(b, vb, 1, axis, limit_b, box_a_low, box_a_high, runs_b, num_runs_b, ray_b, ray_length, a,
+                             va, ws->planes_a, ws->bounds_a, ws->kept_list_a, num_kept_a, ws->inside_b, ws,
+                             &num_points, &inconsistent);
+      POLY_FN(accumulator) acc = out->acc;
+      POLY_FN(run_inside_parts)(a, va, ws->inside_a, runs_a, num_runs_a, a->face_normals, ws->apex_a, 0, ws, &acc,
+                                &num_points);
+      POLY_FN(run_inside_parts)(b, vb, ws->inside_b, runs_b, num_runs_b, ws->normals_b, ws->apex_b, 1, ws, &acc,
+                                &num_points);
+      POLY_FN(accumulate_chords)(a, va, b, vb, records_b, num_records, num_kept_a, ws, &acc);
+      out->acc = acc;
+      out->num_points = num_points;
+      out->num_inconsistent = inconsistent;
+      out->flush = flush;
+      out->num_kept_a = num_kept_a;
+      out->num_kept_b = num_kept_b;
+      ws->capacity_points = capacity_points;
+      return;
+    }
+  }
+  if (ws->use_records) ws->records_overflows++;
+  /* The reference path: a ray's parity per candidate vertex, every kept
+   * triangle pair examined. */
   for (int i = 0; i < a->num_vertices; i++) {
     const R *x = va + 3 * i;
     int candidate = POLY_FN(dot)(x, axis) >= limit_a;

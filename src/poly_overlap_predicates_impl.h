@@ -66,25 +66,14 @@ POLY_INLINE int POLY_FN(side_sign)(R side, int point_in_b, const R *vertices, co
   return POLY_FN(perturbed_sign)(0, (R)((point_in_b ? 1 : -1) * poly_overlap_det_sign(high, low)));
 }
 
-/* Does the segment p0 -> p1 of one body cross triangle `tri` (vertices in
- * `vertices`; `plane` holds (v1-v0) x (v2-v0) and |v1-v0|_1 |v2-v0|_1) of the
- * other body? `segment_in_b` says which body the
- * segment belongs to: B carries the perturbation. Triangle edges are evaluated
- * in ascending vertex order so the two triangles sharing an edge see the
- * identical number. On a crossing, *lambda is the crossing parameter and the
- * return value the perturbed side of p0 (+1: outside the other body's face
- * plane, so the segment enters there; -1: it leaves); 0: no crossing. */
-POLY_INLINE int POLY_FN(segment_crosses_triangle)(const R *p0, const R *p1, int segment_in_b, const R *vertices,
-                                                   const int *tri, const R *plane, R *lambda)
+/* The second half of segment_crosses_triangle: whether the segment p0 -> p1,
+ * whose ends lie on opposite sides of the plane of `tri` (plane_side values
+ * side0, side1; perturbed side of p0 sign0), crosses it inside the triangle. */
+POLY_INLINE int POLY_FN(crossing_in_triangle)(const R *p0, const R *p1, int segment_in_b, const R *vertices,
+                                              const int *tri, R side0, R side1, int sign0, R *lambda)
 {
   R u[3];
   POLY_FN(perturbation)(u);
-  R side0 = POLY_FN(plane_side)(p0, vertices, tri, plane);
-  R side1 = POLY_FN(plane_side)(p1, vertices, tri, plane);
-  int sign0 = POLY_FN(side_sign)(side0, segment_in_b, vertices, tri, plane);
-  int sign1 = POLY_FN(side_sign)(side1, segment_in_b, vertices, tri, plane);
-  if (sign0 == sign1) return 0;
-
   int common = 0;
   for (int k = 0; k < 3; k++) {
     int from = tri[k], to = tri[k == 2 ? 0 : k + 1];
@@ -115,4 +104,23 @@ POLY_INLINE int POLY_FN(segment_crosses_triangle)(const R *p0, const R *p1, int 
     *lambda = t < 0 ? 0 : (t > 1 ? 1 : t);
   }
   return sign0;
+}
+
+/* Does the segment p0 -> p1 of one body cross triangle `tri` (vertices in
+ * `vertices`; `plane` holds (v1-v0) x (v2-v0) and |v1-v0|_1 |v2-v0|_1) of the
+ * other body? `segment_in_b` says which body the
+ * segment belongs to: B carries the perturbation. Triangle edges are evaluated
+ * in ascending vertex order so the two triangles sharing an edge see the
+ * identical number. On a crossing, *lambda is the crossing parameter and the
+ * return value the perturbed side of p0 (+1: outside the other body's face
+ * plane, so the segment enters there; -1: it leaves); 0: no crossing. */
+POLY_INLINE int POLY_FN(segment_crosses_triangle)(const R *p0, const R *p1, int segment_in_b, const R *vertices,
+                                                   const int *tri, const R *plane, R *lambda)
+{
+  R side0 = POLY_FN(plane_side)(p0, vertices, tri, plane);
+  R side1 = POLY_FN(plane_side)(p1, vertices, tri, plane);
+  int sign0 = POLY_FN(side_sign)(side0, segment_in_b, vertices, tri, plane);
+  int sign1 = POLY_FN(side_sign)(side1, segment_in_b, vertices, tri, plane);
+  if (sign0 == sign1) return 0;
+  return POLY_FN(crossing_in_triangle)(p0, p1, segment_in_b, vertices, tri, side0, side1, sign0, lambda);
 }

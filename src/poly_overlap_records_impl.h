@@ -1,0 +1,275 @@
+/* The crossing records of one pass of the overlap (overlap_pass in
+ * poly_overlap_impl.h). Included by poly_overlap_impl.h once per precision
+ * (no include guard).
+ *
+ * Every crossing of an edge of one body with a kept triangle of the other is
+ * decided once, by the exact predicates, and kept as a record (edge, triangle,
+ * parameter along the edge, entering or leaving). The records then give all
+ * three parts of the boundary sums without another predicate:
+ * - the inside state of each vertex: propagated along the edges from a vertex
+ *   known to be outside (out of the slab or of the other's box), flipping at
+ *   each crossing, instead of a ray's parity per vertex (a ray only where no
+ *   edge reaches a decided vertex: a body wholly inside the other);
+ * - the inside parts of the edges, from the records of each edge in order;
+ * - the chord of every crossing triangle pair (t of A, s of B): its two ends
+ *   are exactly the records of t's edges with s and of s's edges with t, so
+ *   the pairs are found by grouping the records by (t, s) in a small hash
+ *   table rather than by examining every pair of kept triangles.
+ * The decisions are those of the reference path (the same predicates on the
+ * same numbers) and the sums are taken in the same order, so both paths give
+ * the same bits (tests/test_records_path.py). Where the records do not fit the
+ * workspace, the pass takes the reference path. */
+
+/* Records of the edges of `mine` in the slab crossing kept triangles of
+ * `other`, sorted along each edge: one run (edge, first record, count) per edge
+ * tested, appended to `runs`. Flush faces (a face of A and one of B in one
+ * plane to within `tolerance`) are looked for where an edge lies within it of
+ * a triangle's plane, over the edge's two triangles. Returns 0, or -1 when the
+ * records do not fit the workspace. */
+POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R *my_vertices, const R *my_planes,
+                                        const R *my_bounds, const R *my_normals, int mine_is_b,
+                                        const POLY_FN(shape_view) *other, const R *other_vertices,
+                                        const R *other_planes, const R *other_bounds, const R *other_normals,
+                                        const int *other_kept_list, int other_num_kept, const R *axis,
+                                        R slab_limit, R tolerance, POLY_FN(overlap_workspace) *ws,
+                                        int *num_records, int *runs, int *num_runs, int *flush)
+{
+  for (int e = 0; e < mine->num_edges; e++) {
+    int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
+    const R *p0 = my_vertices + 3 * v0, *p1 = my_vertices + 3 * v1;
+    R d0 = POLY_FN(dot)(p0, axis), d1 = POLY_FN(dot)(p1, axis);
+    /* The other body lies beyond slab_limit along +axis for A, below it for B. */
+    if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) continue;
+    int first = *num_records, count = 0;
+    R low[3], high[3];
+    POLY_FN(segment_bounds)(p0, p1, low, high);
+    for (int n = 0; n < other_num_kept; n++) {
+      int t = other_kept_list[n];
+      if (!POLY_FN(boxes_overlap)(low, high, other_bounds + 6 * t)) continue;
+      const int *tri = other->triangles + 3 * t;
+      const R *plane = other_planes + 4 * t;
+      R side0 = POLY_FN(plane_side)(p0, other_vertices, tri, plane);
+      R side1 = POLY_FN(plane_side)(p1, other_vertices, tri, plane);
+      if (tolerance > 0 && !*flush) {
+        /* |side| / |plane|_2 is the distance to the plane; |plane|_1 >= |plane|_2, so this only lets more
+         * edges on to triangles_flush, which decides as the reference path does. */
+        R reach = tolerance * POLY_FN(norm1)(plane);
+        if (fabs(side0) <= reach && fabs(side1) <= reach)
+          for (int j = 0; j < 2 && !*flush; j++) {
+            int m = mine->edge_triangles[2 * e + j];
+            const R *box_m = my_bounds + 6 * m, *box_t = other_bounds + 6 * t;
+            if (!POLY_FN(boxes_overlap)(box_m, box_m + 3, box_t)) continue;
+            *flush = !mine_is_b ? POLY_FN(triangles_flush)(my_vertices, mine->triangles + 3 * m, my_planes + 4 * m,
+                                                           my_normals + 3 * m, other_vertices, tri, plane,
+                                                           other_normals + 3 * t, tolerance)
+                                : POLY_FN(triangles_flush)(other_vertices, tri, plane, other_normals + 3 * t,
+                                                           my_vertices, mine->triangles + 3 * m, my_planes + 4 * m,
+                                                           my_normals + 3 * m, tolerance);
+          }
+      }
+      int sign0 = POLY_FN(side_sign)(side0, mine_is_b, other_vertices, tri, plane);
+      int sign1 = POLY_FN(side_sign)(side1, mine_is_b, other_vertices, tri, plane);
+      if (sign0 == sign1) continue;
+      R lambda;
+      int side = POLY_FN(crossing_in_triangle)(p0, p1, mine_is_b, other_vertices, tri, side0, side1, sign0, &lambda);
+      if (!side) continue;
+      if (first + count >= ws->capacity_records) return -1;
+      /* Insertion sort: an edge crosses a handful of triangles. */
+      int slot = first + count++;
+      while (slot > first && ws->record_lambda[slot - 1] > lambda) {
+        ws->record_lambda[slot] = ws->record_lambda[slot - 1];
+        ws->record_entering[slot] = ws->record_entering[slot - 1];
+        ws->record_triangle[slot] = ws->record_triangle[slot - 1];
+        ws->record_edge[slot] = ws->record_edge[slot - 1];
+        slot--;
+      }
+      ws->record_lambda[slot] = lambda;
+      ws->record_entering[slot] = side > 0 ? (R)1 : (R)-1;
+      ws->record_triangle[slot] = t;
+      ws->record_edge[slot] = e;
+    }
+    *num_records = first + count;
+    int *run = runs + 3 * (*num_runs)++;
+    run[0] = e;
+    run[1] = first;
+    run[2] = count;
+  }
+  return 0;
+}
+
+/* Inside states of the vertices of `mine` (see the top of this file): 0 where
+ * a vertex cannot be inside the other body (`candidate` 0), else settled along
+ * the runs' edges, or by point_inside's ray where no run reaches a settled
+ * vertex. Then counts the runs whose parity disagrees with their ends' states
+ * (rounding; 0 normally) and adds the inside vertices as nodes. */
+POLY_INLINE void POLY_FN(settle_inside)(const POLY_FN(shape_view) *mine, const R *my_vertices, int mine_is_b,
+                                        const R *axis, R slab_limit, const R *other_low, const R *other_high,
+                                        const int *runs, int num_runs, const R *ray, R ray_length,
+                                        const POLY_FN(shape_view) *other, const R *other_vertices,
+                                        const R *other_planes, const R *other_bounds, const int *other_kept_list,
+                                        int other_num_kept, unsigned char *inside, POLY_FN(overlap_workspace) *ws,
+                                        int *num_points, int *num_inconsistent)
+{
+  const unsigned char unknown = 2;
+  int num_unknown = 0;
+  for (int i = 0; i < mine->num_vertices; i++) {
+    const R *x = my_vertices + 3 * i;
+    R along = POLY_FN(dot)(x, axis);
+    int candidate = !mine_is_b ? along >= slab_limit : along <= slab_limit;
+    for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= other_low[k] && x[k] <= other_high[k];
+    inside[i] = candidate ? unknown : 0;
+    num_unknown += candidate;
+  }
+  while (num_unknown > 0) {
+    int settled = 0;
+    for (int r = 0; r < num_runs; r++) {
+      const int *run = runs + 3 * r;
+      int v0 = mine->edges[2 * run[0]], v1 = mine->edges[2 * run[0] + 1];
+      if ((inside[v0] == unknown) == (inside[v1] == unknown)) continue;
+      if (inside[v0] == unknown)
+        inside[v0] = (unsigned char)(inside[v1] ^ (run[2] & 1));
+      else
+        inside[v1] = (unsigned char)(inside[v0] ^ (run[2] & 1));
+      settled++;
+    }
+    num_unknown -= settled;
+    if (settled || num_unknown == 0) continue;
+    for (int i = 0; i < mine->num_vertices; i++)
+      if (inside[i] == unknown) {
+        inside[i] = (unsigned char)POLY_FN(point_inside)(my_vertices + 3 * i, ray, ray_length, mine_is_b,
+                                                         other_vertices, other->triangles, other_planes,
+                                                         other_bounds, other_kept_list, other_num_kept);
+        num_unknown--;
+        break;
+      }
+  }
+  for (int r = 0; r < num_runs; r++) {
+    const int *run = runs + 3 * r;
+    int v0 = mine->edges[2 * run[0]], v1 = mine->edges[2 * run[0] + 1];
+    if (((inside[v0] + run[2]) & 1) != inside[v1]) (*num_inconsistent)++;
+  }
+  for (int i = 0; i < mine->num_vertices; i++)
+    if (inside[i]) POLY_FN(add_point)(ws, num_points, my_vertices + 3 * i);
+}
+
+/* The inside parts of the edges of the runs. */
+POLY_INLINE void POLY_FN(run_inside_parts)(const POLY_FN(shape_view) *mine, const R *my_vertices,
+                                           const unsigned char *inside, const int *runs, int num_runs,
+                                           const R *my_unit_normals, R *my_apexes, int mine_is_b,
+                                           POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc,
+                                           int *num_points)
+{
+  for (int r = 0; r < num_runs; r++) {
+    const int *run = runs + 3 * r;
+    int e = run[0], v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
+    POLY_FN(edge_inside_parts)(mine, e, my_vertices + 3 * v0, my_vertices + 3 * v1, inside[v0],
+                               ws->record_lambda + run[1], ws->record_entering + run[1], run[2], my_unit_normals,
+                               my_apexes, mine_is_b, ws, acc, num_points);
+  }
+}
+
+/* Point of record r on its edge of `body` (as edge_inside_parts computes it). */
+POLY_INLINE void POLY_FN(record_point)(const POLY_FN(shape_view) *body, const R *vertices,
+                                       const POLY_FN(overlap_workspace) *ws, int r, R *x)
+{
+  int e = ws->record_edge[r];
+  const R *p0 = vertices + 3 * body->edges[2 * e], *p1 = vertices + 3 * body->edges[2 * e + 1];
+  R direction[3];
+  POLY_FN(sub)(p1, p0, direction);
+  for (int k = 0; k < 3; k++) x[k] = p0[k] + ws->record_lambda[r] * direction[k];
+}
+
+/* The two chord ends of record r: triangles of A (t) and of B (s) of each, and
+ * (r << 1 | starts). A record of edge e (of A) with triangle s ends the chords
+ * (t, s) of both triangles t of e; the chord starts there where the edge, run
+ * in t's order, leaves B (it enters A's facet inside B). For an edge of B the
+ * roles and the direction swap (see chord_ends). */
+POLY_INLINE void POLY_FN(record_ends)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                      const POLY_FN(overlap_workspace) *ws, int r, int of_b, int t[2], int s[2],
+                                      int end[2])
+{
+  const POLY_FN(shape_view) *body = of_b ? b : a;
+  int e = ws->record_edge[r], other = ws->record_triangle[r];
+  int enters = ws->record_entering[r] > 0;
+  for (int j = 0; j < 2; j++) {
+    /* j = 0: the triangle in which the edge runs from its lower vertex. */
+    int mine = body->edge_triangles[2 * e + j];
+    t[j] = of_b ? other : mine;
+    s[j] = of_b ? mine : other;
+    end[j] = r << 1 | (((j == 0) ? !enters : enters) != of_b);
+  }
+}
+
+/* The chords of the crossing triangle pairs, each added to its triangle of A
+ * and, reversed, to its triangle of B: the pairs with exactly two record ends.
+ * The ends are grouped by t (a counting sort over A's kept triangles), then by
+ * s within each t (insertion: a handful), so the chords come in the order of
+ * the pair (t, s), as the reference path adds them: the sums, and so their
+ * rounding, are the same on both paths (in single precision a sliver between
+ * nearly parallel edges is that sensitive). Records [0, records_b) are A's,
+ * [records_b, num_records) B's. */
+POLY_INLINE void POLY_FN(accumulate_chords)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
+                                            const R *vb, int records_b, int num_records, int num_kept_a,
+                                            POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc)
+{
+  int *bucket = ws->chord_buckets, *ends = ws->chord_ends;
+  for (int m = 0; m < num_kept_a; m++) bucket[ws->kept_list_a[m]] = 0;
+  for (int r = 0; r < num_records; r++) {
+    int t[2], s[2], end[2];
+    POLY_FN(record_ends)(a, b, ws, r, r >= records_b, t, s, end);
+    bucket[t[0]]++;
+    bucket[t[1]]++;
+  }
+  for (int m = 0, offset = 0; m < num_kept_a; m++) {
+    int *slot = bucket + ws->kept_list_a[m];
+    int size = *slot;
+    *slot = offset;
+    offset += size;
+  }
+  for (int r = 0; r < num_records; r++) {
+    int t[2], s[2], end[2];
+    POLY_FN(record_ends)(a, b, ws, r, r >= records_b, t, s, end);
+    for (int j = 0; j < 2; j++) {
+      int position = bucket[t[j]]++;
+      ends[2 * position] = s[j];
+      ends[2 * position + 1] = end[j];
+    }
+  }
+  for (int m = 0, begin = 0; m < num_kept_a; m++) {
+    int t = ws->kept_list_a[m], stop = bucket[t];
+    for (int i = begin + 1; i < stop; i++) {
+      int key = ends[2 * i], value = ends[2 * i + 1], j = i;
+      while (j > begin && ends[2 * (j - 1)] > key) {
+        ends[2 * j] = ends[2 * (j - 1)];
+        ends[2 * j + 1] = ends[2 * (j - 1) + 1];
+        j--;
+      }
+      ends[2 * j] = key;
+      ends[2 * j + 1] = value;
+    }
+    for (int i = begin; i < stop;) {
+      int j = i + 1;
+      while (j < stop && ends[2 * j] == ends[2 * i]) j++;
+      if (j - i == 2) {
+        int s = ends[2 * i];
+        R points[2][3];
+        for (int k = 0; k < 2; k++) {
+          int r = ends[2 * (i + k) + 1] >> 1;
+          if (r >= records_b)
+            POLY_FN(record_point)(b, vb, ws, r, points[k]);
+          else
+            POLY_FN(record_point)(a, va, ws, r, points[k]);
+        }
+        const R *first = points[0], *second = points[1];
+        if (!(ends[2 * i + 1] & 1)) {
+          first = points[1];
+          second = points[0];
+        }
+        POLY_FN(add_segment)(acc, ws->apex_a + 3 * t, a->face_normals + 3 * t, first, second, 1);
+        POLY_FN(add_segment)(acc, ws->apex_b + 3 * s, ws->normals_b + 3 * s, second, first, 0);
+      }
+      i = j;
+    }
+    begin = stop;
+  }
+}

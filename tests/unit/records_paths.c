@@ -1,0 +1,158 @@
+/* The two paths of one overlap pass against each other (tests/test_records_path.py):
+ * the crossing records (ws.use_records = 1, the default) and the reference path
+ * (ray parity per vertex, every kept triangle pair examined; use_records = 0).
+ *
+ *   records_paths SHAPE_FILE NUM_POSES PRECISION(double|single|mixed) [CAPACITY]
+ *
+ * Poses: random orientations at centre distances from deep to grazing, and
+ * degenerate ones (both at the identity, or one turned by a multiple of 90
+ * degrees about z, moved along axes by fractions of the size that make faces
+ * flush, vertices touch faces and edges meet edges; B identical to A).
+ * CAPACITY (optional) shrinks the records capacity to force the fallback.
+ * Prints per quantity the largest difference (relative to the particle size)
+ * and the number of poses whose flags (filtered_out, smoothed, recomputed,
+ * inconsistent, num_nodes) differ. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "poly_overlap.h"
+
+static unsigned long long state = 0x2545F4914F6CDD1Dull;
+
+static double uniform(void)
+{
+  state ^= state << 13;
+  state ^= state >> 7;
+  state ^= state << 17;
+  return (double)(state >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static void random_quaternion(double *q)
+{
+  double norm = 0.0;
+  for (int k = 0; k < 4; k++) {
+    q[k] = 2.0 * uniform() - 1.0;
+    norm += q[k] * q[k];
+  }
+  for (int k = 0; k < 4; k++) q[k] /= sqrt(norm);
+}
+
+typedef struct outcome {
+  poly_overlap_result result;
+} outcome;
+
+static int precision;
+static poly_shape_view_d view_d;
+static poly_shape_view_f view_f;
+static poly_overlap_workspace_d ws_d;
+static poly_overlap_workspace_f ws_f;
+
+static void evaluate(const poly_pose *a, const poly_pose *b, int use_records, poly_overlap_result *result)
+{
+  if (precision == POLY_PRECISION_DOUBLE) {
+    ws_d.use_records = use_records;
+    poly_overlap_d(&view_d, a, &view_d, b, &ws_d, result);
+  } else {
+    ws_f.use_records = use_records;
+    if (precision == POLY_PRECISION_SINGLE)
+      poly_overlap_f(&view_f, a, &view_f, b, &ws_f, result);
+    else
+      poly_overlap_m(&view_f, a, &view_f, b, &ws_f, result);
+  }
+}
+
+int main(int argc, char **argv)
+{
+  if (argc < 4) {
+    fprintf(stderr, "usage: records_paths SHAPE_FILE NUM_POSES double|single|mixed [CAPACITY]\n");
+    return 2;
+  }
+  poly_shape shape;
+  char message[512];
+  if (poly_shape_load(argv[1], 1.0, &shape, message, sizeof message) != POLY_OK) {
+    fprintf(stderr, "%s\n", message);
+    return 1;
+  }
+  int num_poses = atoi(argv[2]);
+  precision = !strcmp(argv[3], "single") ? POLY_PRECISION_SINGLE
+                                          : (!strcmp(argv[3], "mixed") ? POLY_PRECISION_MIXED : POLY_PRECISION_DOUBLE);
+  view_d = poly_shape_view_of(&shape);
+  poly_shape_view_make_f(&shape, &view_f);
+  poly_overlap_workspace_create_d(&ws_d, shape.num_vertices, shape.num_triangles);
+  poly_overlap_workspace_create_f(&ws_f, shape.num_vertices, shape.num_triangles);
+  ws_d.want_second_moment = ws_f.want_second_moment = 1;
+  if (argc > 4) ws_d.capacity_records = ws_f.capacity_records = atoi(argv[4]);
+
+  double size = 2.0 * shape.bounding_radius, volume_scale = size * size * size;
+  double worst_volume = 0, worst_centroid = 0, worst_normal = 0, worst_area = 0, worst_depth = 0, worst_second = 0;
+  int flag_differences = 0, overlapping = 0, smoothed = 0;
+  for (int p = 0; p < num_poses; p++) {
+    poly_pose a = {{0, 0, 0}, {1, 0, 0, 0}}, b = {{0, 0, 0}, {1, 0, 0, 0}};
+    if (p % 4 != 3) {
+      random_quaternion(a.quaternion);
+      random_quaternion(b.quaternion);
+      double direction[3], norm = 0;
+      for (int k = 0; k < 3; k++) {
+        direction[k] = 2 * uniform() - 1;
+        norm += direction[k] * direction[k];
+      }
+      double distance = size * (0.2 + 0.8 * uniform());
+      for (int k = 0; k < 3; k++) b.position[k] = distance * direction[k] / sqrt(norm);
+    } else {
+      /* Degenerate: B at A's orientation or turned by a quarter turn about z,
+       * moved by multiples of 1/4 of the size (flush faces, touching
+       * vertices and edges; B identical to A). */
+      int turns = (int)(4 * uniform());
+      double angle = turns * 0.25 * 3.14159265358979323846;
+      b.quaternion[0] = cos(angle);
+      b.quaternion[3] = sin(angle);
+      for (int k = 0; k < 3; k++) b.position[k] = size * 0.25 * (double)((int)(5 * uniform()) - 2);
+    }
+    poly_overlap_result fast, reference;
+    evaluate(&a, &b, 1, &fast);
+    evaluate(&a, &b, 0, &reference);
+    if (fast.filtered_out != reference.filtered_out || fast.smoothed != reference.smoothed ||
+        fast.recomputed != reference.recomputed || (fast.num_inconsistent > 0) != (reference.num_inconsistent > 0) ||
+        fast.num_nodes != reference.num_nodes) {
+      flag_differences++;
+      if (flag_differences <= 5)
+        fprintf(stderr,
+                "pose %d: filtered %d/%d smoothed %d/%d recomputed %d/%d inconsistent %d/%d nodes %d/%d V %.17g/%.17g\n",
+                p, fast.filtered_out, reference.filtered_out, fast.smoothed, reference.smoothed, fast.recomputed,
+                reference.recomputed, fast.num_inconsistent, reference.num_inconsistent, fast.num_nodes,
+                reference.num_nodes, fast.volume, reference.volume);
+    }
+    overlapping += reference.volume > 0;
+    smoothed += reference.smoothed;
+    double dv = fabs(fast.volume - reference.volume) / volume_scale;
+    if (dv > worst_volume) worst_volume = dv;
+    if (reference.volume > 0 && fast.volume > 0) {
+      double weight = reference.volume / volume_scale; /* relative errors of small overlaps scale like 1/V */
+      for (int k = 0; k < 3; k++) {
+        double dc = fabs(fast.centroid[k] - reference.centroid[k]) / size * weight;
+        double dn = fabs(fast.normal[k] - reference.normal[k]) * weight;
+        if (dc > worst_centroid) worst_centroid = dc;
+        if (dn > worst_normal) worst_normal = dn;
+      }
+      double da = fabs(fast.area - reference.area) / (size * size) * weight;
+      double dd = fabs(fast.depth - reference.depth) / size * weight;
+      if (da > worst_area) worst_area = da;
+      if (dd > worst_depth) worst_depth = dd;
+      for (int e = 0; e < 6; e++) {
+        double ds = fabs(fast.second_moment[e] - reference.second_moment[e]) / (volume_scale * size * size);
+        if (ds > worst_second) worst_second = ds;
+      }
+    }
+  }
+  printf("poses %d overlapping %d smoothed %d\n", num_poses, overlapping, smoothed);
+  printf("overflows %d\n", precision == POLY_PRECISION_DOUBLE ? ws_d.records_overflows : ws_f.records_overflows);
+  printf("volume %.3e\ncentroid %.3e\nnormal %.3e\narea %.3e\ndepth %.3e\nsecond_moment %.3e\nflag_differences %d\n",
+         worst_volume, worst_centroid, worst_normal, worst_area, worst_depth, worst_second, flag_differences);
+  poly_overlap_workspace_destroy_d(&ws_d);
+  poly_overlap_workspace_destroy_f(&ws_f);
+  poly_shape_view_free_f(&view_f);
+  poly_shape_free(&shape);
+  return 0;
+}
