@@ -543,6 +543,8 @@ void FixWallPolyhedral::compute_mesh_overlaps()
     prism.view.triangles = prism.triangles;
     prism.view.edges = prism.edges;
     prism.view.edge_triangles = prism.edge_triangles;
+    prism.view.face_of = prism.view.ridges = NULL;
+    prism.view.num_ridges = 0;
   }
   compute_overlaps();
 }

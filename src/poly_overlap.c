@@ -19,6 +19,9 @@ poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
   view.triangles = shape->triangles;
   view.edges = shape->edges;
   view.edge_triangles = shape->edge_triangles;
+  view.face_of = shape->face_of;
+  view.ridges = shape->ridges;
+  view.num_ridges = shape->num_ridges;
   view.bounding_radius = shape->bounding_radius;
   return view;
 }
@@ -43,6 +46,9 @@ int poly_shape_view_make_f(const poly_shape *shape, poly_shape_view_f *view)
   view->triangles = shape->triangles;
   view->edges = shape->edges;
   view->edge_triangles = shape->edge_triangles;
+  view->face_of = shape->face_of;
+  view->ridges = shape->ridges;
+  view->num_ridges = shape->num_ridges;
   view->bounding_radius = (float)shape->bounding_radius;
   return 0;
 }

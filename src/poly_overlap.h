@@ -80,6 +80,9 @@ typedef struct poly_overlap_result {
     const int *edges;         /* 2 * num_edges, first < second */                                   \
     const int *edge_triangles;/* 2 * num_edges: first runs first->second, second the reverse */     \
     REAL bounding_radius;                                                                            \
+    const int *face_of;       /* convex shapes: per triangle its face's lowest triangle; else NULL */ \
+    const int *ridges;        /* convex shapes: the edges between two faces */                      \
+    int num_ridges;                                                                                  \
   } poly_shape_view##SUFFIX;                                                                        \
   /* Scratch memory for one pair at a time, sized once for the largest shapes. */                   \
   typedef struct poly_overlap_workspace##SUFFIX {                                                   \
@@ -94,6 +97,11 @@ typedef struct poly_overlap_result {
     int *record_triangle, *record_edge;    /* the other body's triangle crossed, and the edge */      \
     int *runs;                         /* per edge tested: edge, first record, count */              \
     int *chord_buckets, *chord_ends;   /* per triangle of A; per record end (triangle of B, record) */ \
+    int use_convex;                    /* 1 (default): convex shapes take the convex path (poly_overlap_convex_impl.h) */ \
+    int capacity_sides, convex_fallbacks; /* convex path: side table size; passes it left to the general path */ \
+    REAL *sides;                       /* convex path: per vertex used, its plane_side for each face */ \
+    int *faces_a, *faces_b, *face_column_a, *face_column_b; /* its faces, and their columns per face */ \
+    int *row_of_a, *row_of_b;          /* per vertex: its row of the side table, -1 before it is made */ \
     REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
     REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \
     REAL *normals_b;                   /* B's unit normals in the local frame */                   \

@@ -133,9 +133,14 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   size_t np = 2 * nv + 2 * nt + 64;
   size_t nr = POLY_OVERLAP_RECORDS ? np : 0, nruns = POLY_OVERLAP_RECORDS ? 3 * nt : 0;
   size_t nbuckets = POLY_OVERLAP_RECORDS ? nt : 0;
+  /* The convex path's side table: rows of the vertices it clips, a column per face. */
+  size_t nsides = 2 * (nv * nt < 16 * (nv + nt) + 128 ? nv * nt : 16 * (nv + nt) + 128);
+  if (!POLY_OVERLAP_RECORDS) nsides = 0;
+  size_t nfaces = POLY_OVERLAP_RECORDS ? nt : 0;
+  size_t nrows = POLY_OVERLAP_RECORDS ? nv : 0;
   size_t reals = 3 * nv + 3 * nv + 4 * nt + 4 * nt + 3 * nt + 6 * nt + 6 * nt + 3 * nt + 3 * nt + 2 * nt + 3 * np +
-                 2 * nr;
-  size_t ints = 2 * nt + 2 * nr + 3 * nruns + nbuckets + 4 * nr;
+                 2 * nr + nsides;
+  size_t ints = 2 * nt + 2 * nr + 3 * nruns + nbuckets + 4 * nr + 4 * nfaces + 2 * nrows;
   size_t bytes = sizeof(R) * reals + sizeof(int) * ints + 2 * nt + 2 * nv;
   if (!ws || !memory) return bytes;
   R *r = (R *)memory;
@@ -152,6 +157,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->points = r; r += 3 * np;
   ws->record_lambda = r; r += nr;
   ws->record_entering = r; r += nr;
+  ws->sides = r; r += nsides;
   int *n = (int *)r;
   ws->kept_list_a = n; n += nt;
   ws->kept_list_b = n; n += nt;
@@ -160,6 +166,12 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->runs = n; n += 3 * nruns;
   ws->chord_buckets = n; n += nbuckets;
   ws->chord_ends = n; n += 4 * nr;
+  ws->faces_a = n; n += nfaces;
+  ws->faces_b = n; n += nfaces;
+  ws->face_column_a = n; n += nfaces;
+  ws->face_column_b = n; n += nfaces;
+  ws->row_of_a = n; n += nrows;
+  ws->row_of_b = n; n += nrows;
   unsigned char *c = (unsigned char *)n;
   ws->kept_a = c; c += nt;
   ws->kept_b = c; c += nt;
@@ -172,6 +184,9 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->capacity_runs = (int)nruns;
   ws->use_records = POLY_OVERLAP_RECORDS;
   ws->records_overflows = 0;
+  ws->capacity_sides = (int)nsides;
+  ws->convex_fallbacks = 0;
+  ws->use_convex = POLY_OVERLAP_RECORDS;
   ws->use_filter = 1;
   ws->want_second_moment = 0;
   return bytes;
@@ -305,8 +320,8 @@ POLY_INLINE int POLY_FN(point_inside)(const R *x, const R *ray, R ray_length, in
 POLY_INLINE void POLY_FN(edge_inside_parts)(const POLY_FN(shape_view) *mine, int e, const R *p0, const R *p1,
                                             int inside, const R *lambdas, const R *entering, int count,
                                             const R *my_unit_normals, R *my_apexes, int mine_is_b,
-                                            POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc,
-                                            int *num_points)
+                                            const int *face_of, POLY_FN(overlap_workspace) *ws,
+                                            POLY_FN(accumulator) *acc, int *num_points)
 {
   if (count == 0 && !inside) return;
 
@@ -314,6 +329,11 @@ POLY_INLINE void POLY_FN(edge_inside_parts)(const POLY_FN(shape_view) *mine, int
   POLY_FN(sub)(p1, p0, direction);
   R start = 0;
   int forward = mine->edge_triangles[2 * e], backward = mine->edge_triangles[2 * e + 1];
+  if (face_of) {
+    /* The convex path: facets are whole faces, named by their lowest triangle. */
+    forward = face_of[forward];
+    backward = face_of[backward];
+  }
   /* Crossings whose rounded positions came out of order (an edge nearly in the
    * plane of a face it crosses) would pair the wrong ends. Then the inside part
    * is written as the chain inside(p0) [p0, p1] + sum over crossings of
@@ -358,158 +378,12 @@ POLY_INLINE void POLY_FN(edge_inside_parts)(const POLY_FN(shape_view) *mine, int
   }
 }
 
-/* Inside parts of every edge of `mine` (crossing `other`): each adds a segment to
- * both triangles of the edge, in their own orientations. */
-POLY_INLINE void POLY_FN(accumulate_edges)(const POLY_FN(shape_view) *mine, const R *my_vertices,
-                                           const R *my_unit_normals, R *my_apexes, const unsigned char *my_inside,
-                                           int mine_is_b,
-                                           const POLY_FN(shape_view) *other, const R *other_vertices,
-                                           const R *other_planes, const R *other_bounds,
-                                           const int *other_kept_list, int other_num_kept, const R *axis,
-                                           R slab_limit, POLY_FN(overlap_workspace) *ws,
-                                           POLY_FN(accumulator) *acc, int *num_points, int *num_inconsistent)
-{
-  for (int e = 0; e < mine->num_edges; e++) {
-    int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
-    const R *p0 = my_vertices + 3 * v0, *p1 = my_vertices + 3 * v1;
-    R d0 = POLY_FN(dot)(p0, axis), d1 = POLY_FN(dot)(p1, axis);
-    /* The other body lies beyond slab_limit along +axis for A, below it for B. */
-    if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) continue;
-
-    int count = 0;
-    R *entering = ws->crossings + ws->capacity_triangles; /* +1 where the edge enters the other body */
-    R low[3], high[3];
-    POLY_FN(segment_bounds)(p0, p1, low, high);
-    for (int n = 0; n < other_num_kept; n++) {
-      int t = other_kept_list[n];
-      if (!POLY_FN(boxes_overlap)(low, high, other_bounds + 6 * t)) continue;
-      R lambda;
-      int side = POLY_FN(segment_crosses_triangle)(p0, p1, mine_is_b, other_vertices, other->triangles + 3 * t,
-                                                   other_planes + 4 * t, &lambda);
-      if (side) {
-        /* Insertion sort: an edge crosses a handful of triangles. */
-        int slot = count++;
-        while (slot > 0 && ws->crossings[slot - 1] > lambda) {
-          ws->crossings[slot] = ws->crossings[slot - 1];
-          entering[slot] = entering[slot - 1];
-          slot--;
-        }
-        ws->crossings[slot] = lambda;
-        entering[slot] = side > 0 ? (R)1 : (R)-1;
-      }
-    }
-    int inside = my_inside[v0];
-    if (((inside + count) & 1) != my_inside[v1]) {
-      (*num_inconsistent)++;
-#ifdef POLY_DEBUG_INCONSISTENT
-      fprintf(stderr, "inconsistent edge %d (%d,%d) of %s: in0=%d in1=%d count=%d p0=(%g %g %g) p1=(%g %g %g)\n", e, v0, v1, mine_is_b ? "B" : "A", inside, my_inside[v1], count, p0[0], p0[1], p0[2], p1[0], p1[1], p1[2]);
-#endif
-    }
-    POLY_FN(edge_inside_parts)(mine, e, p0, p1, inside, ws->crossings, entering, count, my_unit_normals, my_apexes,
-                               mine_is_b, ws, acc, num_points);
-  }
-}
-
-/* Where the edges of triangle `mine` (of B when mine_is_b) cross triangle
- * `other`: each crossing is an end of the two triangles' chord, the chord's
- * start when the edge, in its triangle's order, enters the other body (for a
- * triangle of A) or leaves it (for a triangle of B). Counts every crossing in
- * *found (more than two means the triangles do not cross in one chord) and
- * keeps the first two. Edges are tested from their lower vertex index, so both
- * triangles sharing an edge decide alike. */
-POLY_INLINE void POLY_FN(chord_ends)(const R *mine_vertices, const int *mine, int mine_is_b, const R *other_vertices,
-                                     const int *other, const R *other_plane, R ends[2][3], int starts[2], int *found)
-{
-  for (int k = 0; k < 3 && *found <= 2; k++) {
-    int from = mine[k], to = mine[k == 2 ? 0 : k + 1];
-    int low = from < to ? from : to, high = from < to ? to : from;
-    const R *p0 = mine_vertices + 3 * low, *p1 = mine_vertices + 3 * high;
-    R lambda;
-    int side = POLY_FN(segment_crosses_triangle)(p0, p1, mine_is_b, other_vertices, other, other_plane, &lambda);
-    if (!side) continue;
-    if (*found < 2) {
-      for (int i = 0; i < 3; i++) ends[*found][i] = p0[i] + lambda * (p1[i] - p0[i]);
-      starts[*found] = ((side > 0) != (from == low)) != mine_is_b;
-    }
-    (*found)++;
-  }
-}
-
-/* Intersection segment of triangle t of A with triangle s of B, if they cross. */
-POLY_INLINE void POLY_FN(accumulate_triangle_pair)(const POLY_FN(shape_view) *a, const R *va, const R *planes_a,
-                                                   const R *normals_a, int t, const POLY_FN(shape_view) *b,
-                                                   const R *vb, const R *planes_b, const R *normals_b, int s,
-                                                   POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc)
-{
-  const int *ta = a->triangles + 3 * t, *tb = b->triangles + 3 * s;
-  /* A triangle wholly on one side of the other's plane cannot cross it: the
-   * same signs the crossing tests would compute, so the answer is the same. */
-  int sides_a = 0, sides_b = 0;
-  for (int k = 0; k < 3; k++) {
-    const R *corner = va + 3 * ta[k];
-    sides_a += POLY_FN(side_sign)(POLY_FN(plane_side)(corner, vb, tb, planes_b + 4 * s), 0, vb, tb, planes_b + 4 * s);
-  }
-  if (sides_a == 3 || sides_a == -3) return;
-  for (int k = 0; k < 3; k++) {
-    const R *corner = vb + 3 * tb[k];
-    sides_b += POLY_FN(side_sign)(POLY_FN(plane_side)(corner, va, ta, planes_a + 4 * t), 1, va, ta, planes_a + 4 * t);
-  }
-  if (sides_b == 3 || sides_b == -3) return;
-  /* The chord runs along n_t x n_s. Its direction is read from the crossings,
-   * not from that cross product, which is noise for nearly coplanar triangles:
-   * it ends where an edge of t (in t's order) enters B and starts where an edge
-   * of s (in s's order) enters A. */
-  R ends[2][3];
-  int starts[2] = {0, 0};
-  int found = 0;
-  POLY_FN(chord_ends)(va, ta, 0, vb, tb, planes_b + 4 * s, ends, starts, &found);
-  POLY_FN(chord_ends)(vb, tb, 1, va, ta, planes_a + 4 * t, ends, starts, &found);
-  if (found != 2) return;
-  const R *na = normals_a + 3 * t;
-  const R *first = ends[0], *second = ends[1];
-  if (!starts[0]) { first = ends[1]; second = ends[0]; }
-  POLY_FN(add_segment)(acc, ws->apex_a + 3 * t, na, first, second, 1);
-  POLY_FN(add_segment)(acc, ws->apex_b + 3 * s, normals_b + 3 * s, second, first, 0);
-}
-
 POLY_INLINE void POLY_FN(triangle_bounds)(const R *vertices, const int *tri, R *low, R *high)
 {
   for (int k = 0; k < 3; k++) {
     R x = vertices[3 * tri[0] + k], y = vertices[3 * tri[1] + k], z = vertices[3 * tri[2] + k];
     low[k] = x < y ? (x < z ? x : z) : (y < z ? y : z);
     high[k] = x > y ? (x > z ? x : z) : (y > z ? y : z);
-  }
-}
-
-/* Extent along `direction` of the vertices of `mine` inside `other` and of the
- * crossings of its edges with `other`'s kept triangles. */
-POLY_INLINE void POLY_FN(node_extent)(const POLY_FN(shape_view) *mine, const R *my_vertices,
-                                      const unsigned char *my_inside, int mine_is_b,
-                                      const POLY_FN(shape_view) *other, const R *other_vertices,
-                                      const R *other_planes, const int *other_kept_list, int other_num_kept,
-                                      const double *direction, double *low, double *high)
-{
-  for (int i = 0; i < mine->num_vertices; i++) {
-    if (!my_inside[i]) continue;
-    const R *x = my_vertices + 3 * i;
-    double along = direction[0] * x[0] + direction[1] * x[1] + direction[2] * x[2];
-    if (along < *low) *low = along;
-    if (along > *high) *high = along;
-  }
-  for (int e = 0; e < mine->num_edges; e++) {
-    const R *p0 = my_vertices + 3 * mine->edges[2 * e], *p1 = my_vertices + 3 * mine->edges[2 * e + 1];
-    for (int n = 0; n < other_num_kept; n++) {
-      int t = other_kept_list[n];
-      R lambda;
-      if (!POLY_FN(segment_crosses_triangle)(p0, p1, mine_is_b, other_vertices,
-                                                                other->triangles + 3 * t, other_planes + 4 * t,
-                                                                &lambda))
-        continue;
-      double along = 0.0;
-      for (int k = 0; k < 3; k++) along += direction[k] * (double)(p0[k] + lambda * (p1[k] - p0[k]));
-      if (along < *low) *low = along;
-      if (along > *high) *high = along;
-    }
   }
 }
 
@@ -614,7 +488,23 @@ POLY_INLINE int POLY_FN(triangles_flush)(const R *va, const int *ta, const R *pl
   return 1;
 }
 
+/* What the half-space filter of overlap_pass leaves for the paths that make
+ * the sums: the centre line and the slab's limits for A's and B's parts, the
+ * flush tolerance, the boxes of the kept triangles, and rays along the
+ * coordinate axis closest to the centre line pointing away from the other body
+ * (axis-aligned rays make the box test reject almost every triangle). */
+typedef struct POLY_FN(filtered) {
+  R axis[3];
+  R limit_a, limit_b; /* B lies at >= limit_a along the axis, A at <= limit_b */
+  R tolerance;
+  R box_a_low[3], box_a_high[3], box_b_low[3], box_b_high[3];
+  R ray_a[3], ray_b[3], ray_length;
+  int num_kept_a, num_kept_b;
+} POLY_FN(filtered);
+
+#include "poly_overlap_reference_impl.h"
 #include "poly_overlap_records_impl.h"
+#include "poly_overlap_convex_impl.h"
 
 /* One evaluation of the boundary sums of A n B, B placed by rotation and
  * translation in A's body frame. `use_filter` 0: every triangle, no early exit
@@ -733,92 +623,23 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   R ray_b[3] = {0, 0, 0}, ray_a[3] = {0, 0, 0};
   ray_b[ray_axis] = axis_d[ray_axis] > 0 ? (R)1 : (R)-1;
   ray_a[ray_axis] = -ray_b[ray_axis];
-  int num_points = 0;
-  if (ws->use_records && a->num_edges + b->num_edges <= ws->capacity_runs) {
-    int num_records = 0, num_runs_a = 0, num_runs_b = 0, flush = 0;
-    int *runs_a = ws->runs;
-    int fits = POLY_FN(find_crossings)(a, va, ws->planes_a, ws->bounds_a, a->face_normals, 0, b, vb, ws->planes_b,
-                                       ws->bounds_b, ws->normals_b, ws->kept_list_b, num_kept_b, axis, limit_a,
-                                       tolerance, ws, &num_records, runs_a, &num_runs_a, &flush) == 0;
-    int records_b = num_records;
-    int *runs_b = runs_a + 3 * num_runs_a;
-    fits = fits && POLY_FN(find_crossings)(b, vb, ws->planes_b, ws->bounds_b, ws->normals_b, 1, a, va, ws->planes_a,
-                                           ws->bounds_a, a->face_normals, ws->kept_list_a, num_kept_a, axis, limit_b,
-                                           tolerance, ws, &num_records, runs_b, &num_runs_b, &flush) == 0;
-    if (fits) {
-      int inconsistent = 0;
-      POLY_FN(settle_inside)(a, va, 0, axis, limit_a, box_b_low, box_b_high, runs_a, num_runs_a, ray_a, ray_length, b,
-                             vb, ws->planes_b, ws->bounds_b, ws->kept_list_b, num_kept_b, ws->inside_a, ws,
-                             &num_points, &inconsistent);
-      POLY_FN(settle_inside)(b, vb, 1, axis, limit_b, box_a_low, box_a_high, runs_b, num_runs_b, ray_b, ray_length, a,
-                             va, ws->planes_a, ws->bounds_a, ws->kept_list_a, num_kept_a, ws->inside_b, ws,
-                             &num_points, &inconsistent);
-      POLY_FN(accumulator) acc = out->acc;
-      POLY_FN(run_inside_parts)(a, va, ws->inside_a, runs_a, num_runs_a, a->face_normals, ws->apex_a, 0, ws, &acc,
-                                &num_points);
-      POLY_FN(run_inside_parts)(b, vb, ws->inside_b, runs_b, num_runs_b, ws->normals_b, ws->apex_b, 1, ws, &acc,
-                                &num_points);
-      POLY_FN(accumulate_chords)(a, va, b, vb, records_b, num_records, num_kept_a, ws, &acc);
-      out->acc = acc;
-      out->num_points = num_points;
-      out->num_inconsistent = inconsistent;
-      out->flush = flush;
-      out->num_kept_a = num_kept_a;
-      out->num_kept_b = num_kept_b;
-      ws->capacity_points = capacity_points;
-      return;
-    }
+  POLY_FN(filtered) f = {{axis[0], axis[1], axis[2]}, limit_a, limit_b, tolerance,
+                         {box_a_low[0], box_a_low[1], box_a_low[2]}, {box_a_high[0], box_a_high[1], box_a_high[2]},
+                         {box_b_low[0], box_b_low[1], box_b_low[2]}, {box_b_high[0], box_b_high[1], box_b_high[2]},
+                         {ray_a[0], ray_a[1], ray_a[2]}, {ray_b[0], ray_b[1], ray_b[2]}, ray_length,
+                         num_kept_a, num_kept_b};
+  /* The sums by the cheapest path that can decide them: convex shapes' face
+   * table, the crossing records, or the reference path. */
+  int done = 0;
+  if (ws->use_records && ws->use_convex && a->face_of && b->face_of) {
+    done = POLY_FN(convex_path)(a, va, b, vb, rotation, &f, ws, out) == 0;
+    if (!done) ws->convex_fallbacks++;
   }
-  if (ws->use_records) ws->records_overflows++;
-  /* The reference path: a ray's parity per candidate vertex, every kept
-   * triangle pair examined. */
-  for (int i = 0; i < a->num_vertices; i++) {
-    const R *x = va + 3 * i;
-    int candidate = POLY_FN(dot)(x, axis) >= limit_a;
-    for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= box_b_low[k] && x[k] <= box_b_high[k];
-    ws->inside_a[i] = candidate ? (unsigned char)POLY_FN(point_inside)(x, ray_a, ray_length, 0, vb, b->triangles,
-                                                                         ws->planes_b, ws->bounds_b, ws->kept_list_b,
-                                                                         num_kept_b)
-                                : 0;
-    if (ws->inside_a[i]) POLY_FN(add_point)(ws, &num_points, x);
+  if (!done && ws->use_records) {
+    done = POLY_FN(records_path)(a, va, b, vb, &f, ws, out) == 0;
+    if (!done) ws->records_overflows++;
   }
-  for (int j = 0; j < b->num_vertices; j++) {
-    const R *x = vb + 3 * j;
-    int candidate = POLY_FN(dot)(x, axis) <= limit_b;
-    for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= box_a_low[k] && x[k] <= box_a_high[k];
-    ws->inside_b[j] = candidate ? (unsigned char)POLY_FN(point_inside)(x, ray_b, ray_length, 1, va, a->triangles,
-                                                                         ws->planes_a, ws->bounds_a, ws->kept_list_a,
-                                                                         num_kept_a)
-                                : 0;
-    if (ws->inside_b[j]) POLY_FN(add_point)(ws, &num_points, x);
-  }
-
-  POLY_FN(accumulator) acc = out->acc;
-  int inconsistent = 0;
-  POLY_FN(accumulate_edges)(a, va, a->face_normals, ws->apex_a, ws->inside_a, 0, b, vb, ws->planes_b, ws->bounds_b,
-                            ws->kept_list_b, num_kept_b, axis, limit_a, ws, &acc, &num_points, &inconsistent);
-  POLY_FN(accumulate_edges)(b, vb, ws->normals_b, ws->apex_b, ws->inside_b, 1, a, va, ws->planes_a, ws->bounds_a,
-                            ws->kept_list_a, num_kept_a, axis, limit_b, ws, &acc, &num_points, &inconsistent);
-  int flush = 0;
-  for (int m = 0; m < num_kept_a; m++) {
-    int t = ws->kept_list_a[m];
-    const R *box_t = ws->bounds_a + 6 * t;
-    for (int n = 0; n < num_kept_b; n++) {
-      int s = ws->kept_list_b[n];
-      const R *box_s = ws->bounds_b + 6 * s;
-      if (!POLY_FN(boxes_overlap)(box_t, box_t + 3, box_s)) continue;
-      if (tolerance > 0 && !flush)
-        flush = POLY_FN(triangles_flush)(va, a->triangles + 3 * t, ws->planes_a + 4 * t, a->face_normals + 3 * t, vb,
-                                         b->triangles + 3 * s, ws->planes_b + 4 * s, ws->normals_b + 3 * s,
-                                         tolerance);
-      POLY_FN(accumulate_triangle_pair)(a, va, ws->planes_a, a->face_normals, t, b, vb, ws->planes_b,
-                                        ws->normals_b, s, ws, &acc);
-    }
-  }
-  out->acc = acc;
-  out->num_points = num_points;
-  out->num_inconsistent = inconsistent;
-  out->flush = flush;
+  if (!done) POLY_FN(reference_path)(a, va, b, vb, &f, ws, out);
   out->num_kept_a = num_kept_a;
   out->num_kept_b = num_kept_b;
   ws->capacity_points = capacity_points;

@@ -156,15 +156,15 @@ POLY_INLINE void POLY_FN(settle_inside)(const POLY_FN(shape_view) *mine, const R
 POLY_INLINE void POLY_FN(run_inside_parts)(const POLY_FN(shape_view) *mine, const R *my_vertices,
                                            const unsigned char *inside, const int *runs, int num_runs,
                                            const R *my_unit_normals, R *my_apexes, int mine_is_b,
-                                           POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc,
-                                           int *num_points)
+                                           const int *face_of, POLY_FN(overlap_workspace) *ws,
+                                           POLY_FN(accumulator) *acc, int *num_points)
 {
   for (int r = 0; r < num_runs; r++) {
     const int *run = runs + 3 * r;
     int e = run[0], v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
     POLY_FN(edge_inside_parts)(mine, e, my_vertices + 3 * v0, my_vertices + 3 * v1, inside[v0],
                                ws->record_lambda + run[1], ws->record_entering + run[1], run[2], my_unit_normals,
-                               my_apexes, mine_is_b, ws, acc, num_points);
+                               my_apexes, mine_is_b, face_of, ws, acc, num_points);
   }
 }
 
@@ -185,8 +185,8 @@ POLY_INLINE void POLY_FN(record_point)(const POLY_FN(shape_view) *body, const R 
  * in t's order, leaves B (it enters A's facet inside B). For an edge of B the
  * roles and the direction swap (see chord_ends). */
 POLY_INLINE void POLY_FN(record_ends)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
-                                      const POLY_FN(overlap_workspace) *ws, int r, int of_b, int t[2], int s[2],
-                                      int end[2])
+                                      const POLY_FN(overlap_workspace) *ws, int r, int of_b, int faces, int t[2],
+                                      int s[2], int end[2])
 {
   const POLY_FN(shape_view) *body = of_b ? b : a;
   int e = ws->record_edge[r], other = ws->record_triangle[r];
@@ -194,49 +194,53 @@ POLY_INLINE void POLY_FN(record_ends)(const POLY_FN(shape_view) *a, const POLY_F
   for (int j = 0; j < 2; j++) {
     /* j = 0: the triangle in which the edge runs from its lower vertex. */
     int mine = body->edge_triangles[2 * e + j];
+    if (faces) mine = body->face_of[mine];
     t[j] = of_b ? other : mine;
     s[j] = of_b ? mine : other;
     end[j] = r << 1 | (((j == 0) ? !enters : enters) != of_b);
   }
 }
 
-/* The chords of the crossing triangle pairs, each added to its triangle of A
- * and, reversed, to its triangle of B: the pairs with exactly two record ends.
- * The ends are grouped by t (a counting sort over A's kept triangles), then by
- * s within each t (insertion: a handful), so the chords come in the order of
- * the pair (t, s), as the reference path adds them: the sums, and so their
- * rounding, are the same on both paths (in single precision a sliver between
- * nearly parallel edges is that sensitive). Records [0, records_b) are A's,
- * [records_b, num_records) B's. */
-POLY_INLINE void POLY_FN(accumulate_chords)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
-                                            const R *vb, int records_b, int num_records, int num_kept_a,
-                                            POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc)
+/* The ends of the records grouped by triangle pair (t, s): by t (a counting
+ * sort over the triangles in `list_a`, ascending, which must hold every t
+ * that ends a chord), then by s within each t (insertion: a handful), so the
+ * chords come in the order of the pair (t, s), as the reference path adds
+ * them: the sums, and so their rounding, are the same on both paths (in
+ * single precision a sliver between nearly parallel edges is that sensitive).
+ * Records [0, records_b) are A's, [records_b, num_records) B's; `faces`: name
+ * facets by their faces (the convex path). Returns the number of pairs with
+ * other than two ends (the reference path skips those as not crossing in one
+ * chord; to the convex path they are a decision to take again exactly). */
+POLY_INLINE int POLY_FN(group_chord_ends)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b, int records_b,
+                                          int num_records, const int *list_a, int num_a, int faces,
+                                          POLY_FN(overlap_workspace) *ws)
 {
   int *bucket = ws->chord_buckets, *ends = ws->chord_ends;
-  for (int m = 0; m < num_kept_a; m++) bucket[ws->kept_list_a[m]] = 0;
+  for (int m = 0; m < num_a; m++) bucket[list_a[m]] = 0;
   for (int r = 0; r < num_records; r++) {
     int t[2], s[2], end[2];
-    POLY_FN(record_ends)(a, b, ws, r, r >= records_b, t, s, end);
+    POLY_FN(record_ends)(a, b, ws, r, r >= records_b, faces, t, s, end);
     bucket[t[0]]++;
     bucket[t[1]]++;
   }
-  for (int m = 0, offset = 0; m < num_kept_a; m++) {
-    int *slot = bucket + ws->kept_list_a[m];
+  for (int m = 0, offset = 0; m < num_a; m++) {
+    int *slot = bucket + list_a[m];
     int size = *slot;
     *slot = offset;
     offset += size;
   }
   for (int r = 0; r < num_records; r++) {
     int t[2], s[2], end[2];
-    POLY_FN(record_ends)(a, b, ws, r, r >= records_b, t, s, end);
+    POLY_FN(record_ends)(a, b, ws, r, r >= records_b, faces, t, s, end);
     for (int j = 0; j < 2; j++) {
       int position = bucket[t[j]]++;
       ends[2 * position] = s[j];
       ends[2 * position + 1] = end[j];
     }
   }
-  for (int m = 0, begin = 0; m < num_kept_a; m++) {
-    int t = ws->kept_list_a[m], stop = bucket[t];
+  int odd = 0;
+  for (int m = 0, begin = 0; m < num_a; m++) {
+    int stop = bucket[list_a[m]];
     for (int i = begin + 1; i < stop; i++) {
       int key = ends[2 * i], value = ends[2 * i + 1], j = i;
       while (j > begin && ends[2 * (j - 1)] > key) {
@@ -247,6 +251,27 @@ POLY_INLINE void POLY_FN(accumulate_chords)(const POLY_FN(shape_view) *a, const 
       ends[2 * j] = key;
       ends[2 * j + 1] = value;
     }
+    for (int i = begin; i < stop;) {
+      int j = i + 1;
+      while (j < stop && ends[2 * j] == ends[2 * i]) j++;
+      odd += j - i != 2;
+      i = j;
+    }
+    begin = stop;
+  }
+  return odd;
+}
+
+/* The chords of the crossing triangle pairs grouped by group_chord_ends (the
+ * pairs with exactly two ends), each added to its triangle of A and, reversed,
+ * to its triangle of B. */
+POLY_INLINE void POLY_FN(add_chords)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
+                                     const R *vb, int records_b, const int *list_a, int num_a,
+                                     POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc)
+{
+  const int *bucket = ws->chord_buckets, *ends = ws->chord_ends;
+  for (int m = 0, begin = 0; m < num_a; m++) {
+    int t = list_a[m], stop = bucket[t];
     for (int i = begin; i < stop;) {
       int j = i + 1;
       while (j < stop && ends[2 * j] == ends[2 * i]) j++;
@@ -272,4 +297,44 @@ POLY_INLINE void POLY_FN(accumulate_chords)(const POLY_FN(shape_view) *a, const 
     }
     begin = stop;
   }
+}
+
+/* The records path of one pass (see the top of this file). Returns 0 with the
+ * sums, nodes, inconsistent edges and flush faces in *out, or -1 when the
+ * records do not fit the workspace. */
+POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
+                                      const R *vb, const POLY_FN(filtered) *f, POLY_FN(overlap_workspace) *ws,
+                                      POLY_FN(pass) *out)
+{
+  if (a->num_edges + b->num_edges > ws->capacity_runs) return -1;
+  int num_records = 0, num_runs_a = 0, num_runs_b = 0, flush = 0;
+  int *runs_a = ws->runs;
+  if (POLY_FN(find_crossings)(a, va, ws->planes_a, ws->bounds_a, a->face_normals, 0, b, vb, ws->planes_b, ws->bounds_b,
+                              ws->normals_b, ws->kept_list_b, f->num_kept_b, f->axis, f->limit_a, f->tolerance, ws,
+                              &num_records, runs_a, &num_runs_a, &flush))
+    return -1;
+  int records_b = num_records, *runs_b = runs_a + 3 * num_runs_a;
+  if (POLY_FN(find_crossings)(b, vb, ws->planes_b, ws->bounds_b, ws->normals_b, 1, a, va, ws->planes_a, ws->bounds_a,
+                              a->face_normals, ws->kept_list_a, f->num_kept_a, f->axis, f->limit_b, f->tolerance, ws,
+                              &num_records, runs_b, &num_runs_b, &flush))
+    return -1;
+  int num_points = 0, inconsistent = 0;
+  POLY_FN(settle_inside)(a, va, 0, f->axis, f->limit_a, f->box_b_low, f->box_b_high, runs_a, num_runs_a, f->ray_a,
+                         f->ray_length, b, vb, ws->planes_b, ws->bounds_b, ws->kept_list_b, f->num_kept_b, ws->inside_a,
+                         ws, &num_points, &inconsistent);
+  POLY_FN(settle_inside)(b, vb, 1, f->axis, f->limit_b, f->box_a_low, f->box_a_high, runs_b, num_runs_b, f->ray_b,
+                         f->ray_length, a, va, ws->planes_a, ws->bounds_a, ws->kept_list_a, f->num_kept_a, ws->inside_b,
+                         ws, &num_points, &inconsistent);
+  POLY_FN(accumulator) acc = out->acc;
+  POLY_FN(run_inside_parts)(a, va, ws->inside_a, runs_a, num_runs_a, a->face_normals, ws->apex_a, 0, NULL, ws, &acc,
+                            &num_points);
+  POLY_FN(run_inside_parts)(b, vb, ws->inside_b, runs_b, num_runs_b, ws->normals_b, ws->apex_b, 1, NULL, ws, &acc,
+                            &num_points);
+  POLY_FN(group_chord_ends)(a, b, records_b, num_records, ws->kept_list_a, f->num_kept_a, 0, ws);
+  POLY_FN(add_chords)(a, va, b, vb, records_b, ws->kept_list_a, f->num_kept_a, ws, &acc);
+  out->acc = acc;
+  out->num_points = num_points;
+  out->num_inconsistent = inconsistent;
+  out->flush = flush;
+  return 0;
 }

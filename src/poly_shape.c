@@ -949,7 +949,9 @@ poly_status poly_shape_build(const poly_mesh *mesh, double scale, const char *na
     return status;
   }
   shape->was_flipped = was_flipped;
-  return poly_check_mass_properties(shape, scale, b.name, message, message_size);
+  status = poly_check_mass_properties(shape, scale, b.name, message, message_size);
+  if (status == POLY_OK) status = poly_shape_find_faces(shape);
+  return status;
 }
 
 poly_status poly_shape_load(const char *path, double scale, poly_shape *shape, char *message,
@@ -981,5 +983,7 @@ void poly_shape_free(poly_shape *shape)
   free(shape->edge_triangles);
   free(shape->vertex_triangle_offsets);
   free(shape->vertex_triangles);
+  free(shape->face_of);
+  free(shape->ridges);
   memset(shape, 0, sizeof *shape);
 }

@@ -75,6 +75,12 @@ typedef struct poly_shape {
 
   int was_flipped;               /* 1 if the file's orientation was inward and got inverted */
   int num_welded;                /* vertices merged by welding */
+
+  /* Convex shapes only (NULL, 0 otherwise; poly_shape_find_faces): per triangle the lowest triangle of its
+   * face (the coplanar neighbours it is merged with), and the edges between two faces. */
+  int *face_of;
+  int *ridges;
+  int num_ridges;
 } poly_shape;
 
 /* Reads a mesh; the format is chosen by extension (.stl, .obj, .off, any case).
@@ -104,6 +110,10 @@ poly_status poly_shape_build(const poly_mesh *mesh, double scale, const char *na
 /* Convenience: read + weld + build. */
 poly_status poly_shape_load(const char *path, double scale, poly_shape *shape,
                             char *message, size_t message_size);
+
+/* Fills face_of and ridges when the shape is convex (to 1e-12 of its size) and every vertex lies on a
+ * ridge; leaves them NULL otherwise. Called by poly_shape_build. */
+poly_status poly_shape_find_faces(poly_shape *shape);
 
 void poly_shape_free(poly_shape *shape);
 

@@ -55,7 +55,8 @@ def test_gpu_code_paths_on_the_cpu(tmp_path):
         pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
     binary = tmp_path / "gpu_paths"
     sources = [ROOT / "tests" / "unit" / "gpu_paths.c"] + [ROOT / "src" / name for name in
-                                                          ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c")]
+                                                          ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c",
+                                                           "poly_convex.c")]
     build = subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-I" + str(ROOT / "src"),
                             "-I" + str(ROOT / "gpu")] + [str(s) for s in sources] + ["-lm", "-o", str(binary)],
                            capture_output=True, text=True)

@@ -40,7 +40,8 @@ import overlap_reference as ref  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHAPES = os.path.join(ROOT, "examples", "shapes")
 SOURCES = [os.path.join(ROOT, "src", name)
-           for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_mesh_shell.c")]
+           for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_mesh_shell.c",
+                        "poly_convex.c")]
 
 # ---------------------------------------------------------------------------------------------
 # A small C shim over the public API (poly_shape_load, views, workspaces, poly_overlap_d/f),

@@ -31,7 +31,7 @@ def driver(tmp_path_factory):
         pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
     binary = str(tmp_path_factory.mktemp("records") / "records_paths")
     sources = [os.path.join(ROOT, "tests", "unit", "records_paths.c")] + [
-        os.path.join(ROOT, "src", name) for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c")]
+        os.path.join(ROOT, "src", name) for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c")]
     subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-I" + os.path.join(ROOT, "src")] +
                    sources + ["-lm", "-o", binary], check=True)
     return binary
@@ -45,6 +45,8 @@ def run(driver, shape, poses, precision, capacity=None):
         words = line.split()
         if words[0] == "poses":
             values.update(poses=int(words[1]), overlapping=int(words[3]), smoothed=int(words[5]))
+        elif words[0] == "convex":
+            values.update(convex=int(words[1]), fallbacks=int(words[3]))
         else:
             values[words[0]] = float(words[1])
     return values, out.stderr

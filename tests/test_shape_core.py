@@ -13,7 +13,7 @@ import sys
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SOURCES = [os.path.join(ROOT, "src", "poly_shape.c"), os.path.join(ROOT, "src", "poly_mesh_read.c")]
+SOURCES = [os.path.join(ROOT, "src", name) for name in ("poly_shape.c", "poly_mesh_read.c", "poly_convex.c")]
 TEST_SOURCE = os.path.join(ROOT, "tests", "unit", "test_shape.c")
 CFLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic", "-I" + os.path.join(ROOT, "src")]
 

@@ -10,7 +10,8 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-sources=("$root/src/poly_overlap.c" "$root/src/poly_shape.c" "$root/src/poly_mesh_read.c" "$root/src/poly_mesh_shell.c")
+sources=("$root/src/poly_overlap.c" "$root/src/poly_shape.c" "$root/src/poly_mesh_read.c" "$root/src/poly_mesh_shell.c"
+  "$root/src/poly_convex.c")
 gcc -std=c11 -O2 -Wall -Wextra -I"$root/src" "$root/tools/bench_mesh_pieces.c" "${sources[@]}" -lm \
   -o "$work/bench_mesh_pieces"
 echo "machine: $(nproc) CPUs; $(lscpu | sed -n 's/^Model name:[[:space:]]*//p')"

@@ -14,14 +14,14 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
 gcc -std=c11 -O2 -Wall -Wextra -I"$root/src" "$root/tools/bench_overlap.c" "$root/src/poly_overlap.c" \
-  "$root/src/poly_shape.c" "$root/src/poly_mesh_read.c" -lm -o "$work/bench_overlap"
+  "$root/src/poly_shape.c" "$root/src/poly_mesh_read.c" "$root/src/poly_convex.c" -lm -o "$work/bench_overlap"
 
 echo "machine: $(nproc) CPUs; $(lscpu | sed -n 's/^Model name:[[:space:]]*//p')"
 echo "compiler: $(gcc --version | head -1), -std=c11 -O2"
 commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
 # The files this benchmark compiles, headers included: are any of them uncommitted?
 sources="$(gcc -std=c11 -MM -I"$root/src" "$root/src/poly_overlap.c" "$root/src/poly_shape.c" \
-  "$root/src/poly_mesh_read.c" | tr -d '\\' | tr ' ' '\n' | grep "^$root/src/" | sort -u)"
+  "$root/src/poly_mesh_read.c" "$root/src/poly_convex.c" | tr -d '\\' | tr ' ' '\n' | grep "^$root/src/" | sort -u)"
 # shellcheck disable=SC2086
 if [ -n "$(git -C "$root" status --porcelain -- $sources 2>/dev/null)" ]; then commit="$commit (modified)"; fi
 echo "commit: $commit"

@@ -46,7 +46,7 @@ SPECIAL_NUMBERS = [b"nan", b"-nan", b"inf", b"-inf", b"1e308", b"-1e308", b"1e30
 def build_driver(cc="gcc"):
     """Compiles the driver with the readers (src/poly_mesh_read.c, src/poly_shape.c) under the sanitizers."""
     DRIVER.parent.mkdir(parents=True, exist_ok=True)
-    sources = [DRIVER_SOURCE, ROOT / "src" / "poly_mesh_read.c", ROOT / "src" / "poly_shape.c"]
+    sources = [DRIVER_SOURCE, ROOT / "src" / "poly_mesh_read.c", ROOT / "src" / "poly_shape.c", ROOT / "src" / "poly_convex.c"]
     if DRIVER.exists() and all(DRIVER.stat().st_mtime > s.stat().st_mtime for s in sources + [ROOT / "src" / "poly_shape.h"]):
         return DRIVER
     command = [cc, "-std=c11", "-O1", "-g", *SANITIZE, "-Isrc", *map(str, sources), "-lm", "-o", str(DRIVER)]

@@ -1,0 +1,92 @@
+/* Convex shapes and their faces, found once when a shape is built, for the
+ * convex path of the overlap (poly_overlap_convex_impl.h). */
+#include <math.h>
+#include <stdlib.h>
+
+#include "poly_shape.h"
+
+static int face_root(int *parent, int t)
+{
+  while (parent[t] != t) {
+    parent[t] = parent[parent[t]];
+    t = parent[t];
+  }
+  return t;
+}
+
+/* Is triangle u's plane the plane of triangle t, to within `tolerance`:
+ * normals within 1e-12 of each other and u's corners on t's plane? */
+static int same_plane(const poly_shape *shape, int t, int u, double tolerance)
+{
+  const double *n = shape->face_normals + 3 * t, *m = shape->face_normals + 3 * u;
+  if (n[0] * m[0] + n[1] * m[1] + n[2] * m[2] < 1.0 - 1e-12) return 0;
+  const double *origin = shape->vertices + 3 * shape->triangles[3 * t];
+  for (int c = 0; c < 3; c++) {
+    const double *x = shape->vertices + 3 * shape->triangles[3 * u + c];
+    double height = n[0] * (x[0] - origin[0]) + n[1] * (x[1] - origin[1]) + n[2] * (x[2] - origin[2]);
+    if (fabs(height) > tolerance) return 0;
+  }
+  return 1;
+}
+
+poly_status poly_shape_find_faces(poly_shape *shape)
+{
+  free(shape->face_of);
+  free(shape->ridges);
+  shape->face_of = shape->ridges = NULL;
+  shape->num_ridges = 0;
+  const int nt = shape->num_triangles, nv = shape->num_vertices, ne = shape->num_edges;
+  /* Convex: every vertex on or behind every face's plane, to 1e-12 of the size (a shape that much from
+   * convex differs from the intersection of its faces' half-spaces by less than the rounding of the
+   * particles' poses). */
+  const double tolerance = 1e-12 * shape->bounding_radius;
+  for (int t = 0; t < nt; t++) {
+    const double *n = shape->face_normals + 3 * t, *origin = shape->vertices + 3 * shape->triangles[3 * t];
+    for (int v = 0; v < nv; v++) {
+      const double *x = shape->vertices + 3 * v;
+      if (n[0] * (x[0] - origin[0]) + n[1] * (x[1] - origin[1]) + n[2] * (x[2] - origin[2]) > tolerance)
+        return POLY_OK;
+    }
+  }
+  int *parent = (int *)malloc(sizeof(int) * (size_t)nt), *on_ridge = (int *)calloc((size_t)nv, sizeof(int));
+  int *face_of = (int *)malloc(sizeof(int) * (size_t)nt);
+  int *ridges = (int *)malloc(sizeof(int) * (size_t)(ne > 0 ? ne : 1));
+  if (!parent || !on_ridge || !face_of || !ridges) {
+    free(parent);
+    free(on_ridge);
+    free(face_of);
+    free(ridges);
+    return POLY_ERROR_MEMORY;
+  }
+  for (int t = 0; t < nt; t++) parent[t] = t;
+  for (int e = 0; e < ne; e++) {
+    int t = shape->edge_triangles[2 * e], u = shape->edge_triangles[2 * e + 1];
+    if (!same_plane(shape, t, u, tolerance) || !same_plane(shape, u, t, tolerance)) continue;
+    int root_t = face_root(parent, t), root_u = face_root(parent, u);
+    /* The root is the face's lowest triangle: its representative. */
+    if (root_t < root_u) parent[root_u] = root_t;
+    else parent[root_t] = root_u;
+  }
+  for (int t = 0; t < nt; t++) face_of[t] = face_root(parent, t);
+  int num_ridges = 0;
+  for (int e = 0; e < ne; e++) {
+    if (face_of[shape->edge_triangles[2 * e]] == face_of[shape->edge_triangles[2 * e + 1]]) continue;
+    ridges[num_ridges++] = e;
+    on_ridge[shape->edges[2 * e]] = on_ridge[shape->edges[2 * e + 1]] = 1;
+  }
+  /* A vertex inside a flat face (on no ridge) would be a node the convex path does not see: such shapes
+   * keep the general path. */
+  int all_on_ridges = 1;
+  for (int v = 0; v < nv; v++) all_on_ridges &= on_ridge[v];
+  free(parent);
+  free(on_ridge);
+  if (!all_on_ridges) {
+    free(face_of);
+    free(ridges);
+    return POLY_OK;
+  }
+  shape->face_of = face_of;
+  shape->ridges = ridges;
+  shape->num_ridges = num_ridges;
+  return POLY_OK;
+}

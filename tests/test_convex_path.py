@@ -1,0 +1,50 @@
+"""The convex path of the overlap (src/poly_overlap_convex_impl.h) against the general path.
+
+Shapes found convex when built (poly_shape_find_faces) take the convex path: the vertices' sides of the other
+body's faces in one table, each ridge clipped by those faces, the crossings turned into the general path's
+records and summed by the same code. Different arithmetic (whole faces, no crossing tests against triangle
+edges), so not the same bits: tests/unit/records_paths.c `convex` compares it with the general records path
+(ws.use_convex = 0) on random poses from deep to grazing and on degenerate ones (flush faces, touching
+vertices and edges, identical bodies), in double, single and mixed precision. Stated tolerances, relative to
+the particle size (volume, centroid, area and second moment weighted by the overlap's share of the particle
+volume, so a tiny overlap's relative error does not swamp them; normal and depth where the normal is
+well-conditioned, the area vector at least a tenth of the area): double 1e-13, single and mixed 1e-5 for the
+normal and the depth, 1e-6 for the rest (measured: double <= 1.7e-15, single <= 1.2e-6 for the normal,
+<= 6.4e-8 for the rest). The flags (filtered, smoothed, re-evaluated, inconsistent) must be the same; the
+node counts may differ (the convex path does not clip the diagonals of flat faces, whose crossings lie on
+chords between other nodes). Flush faces and undecidable contacts must have been left to the general path,
+and most contacts not.
+
+Run with Debian's python3:  /usr/bin/python3 -m pytest tests/test_convex_path.py -q
+"""
+import pytest
+
+from test_records_path import driver, run  # noqa: F401  (the fixture builds tests/unit/records_paths.c)
+
+CONVEX_SHAPES = ["cube.stl", "box_1x2x3.off", "tetrahedron.obj", "icosphere_80.off"]
+TOLERANCE = {"double": {"volume": 1e-13, "centroid": 1e-13, "normal": 1e-13, "area": 1e-13, "depth": 1e-13,
+                        "second_moment": 1e-13},
+             "single": {"volume": 1e-6, "centroid": 1e-6, "normal": 1e-5, "area": 1e-6, "depth": 1e-5,
+                        "second_moment": 1e-6}}
+TOLERANCE["mixed"] = TOLERANCE["single"]
+
+
+@pytest.mark.parametrize("precision", ["double", "single", "mixed"])
+@pytest.mark.parametrize("shape", CONVEX_SHAPES)
+def test_convex_path_agrees_with_the_general_path(driver, shape, precision):  # noqa: F811
+    values, log = run(driver, shape, 600, precision, capacity="convex")
+    assert values["convex"] == 1, f"{shape} was not found convex"
+    assert values["overlapping"] >= 150
+    for quantity, limit in TOLERANCE[precision].items():
+        assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
+    assert values["flag_differences"] == 0, log
+    # Flush faces go to the general path (which smooths them); most contacts do not.
+    assert values["fallbacks"] >= values["smoothed"]
+    assert values["fallbacks"] <= 0.4 * values["poses"]
+
+
+@pytest.mark.parametrize("shape", ["schoenhardt.stl", "rock_40.obj"])
+def test_non_convex_shapes_keep_the_general_path(driver, shape):  # noqa: F811
+    values, _ = run(driver, shape, 20, "double", capacity="convex")
+    assert values["convex"] == 0
+    assert values["fallbacks"] == 0
