@@ -97,7 +97,7 @@ typedef struct poly_overlap_result {
     int *record_triangle, *record_edge;    /* the other body's triangle crossed, and the edge */      \
     int *runs;                         /* per edge tested: edge, first record, count */              \
     int *chord_buckets, *chord_ends;   /* per triangle of A; per record end (triangle of B, record) */ \
-    int use_convex;                    /* 1 (default): convex shapes take the convex path (poly_overlap_convex_impl.h) */ \
+    int use_convex;                    /* 1 (default): convex shapes take the convex path (poly_overlap_convex_impl.h), with the filter on */ \
     int capacity_sides, convex_fallbacks; /* convex path: side table size; passes it left to the general path */ \
     REAL *sides;                       /* convex path: per vertex used, its plane_side for each face */ \
     int *faces_a, *faces_b, *face_column_a, *face_column_b; /* its faces, and their columns per face */ \

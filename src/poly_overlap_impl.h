@@ -631,7 +631,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   /* The sums by the cheapest path that can decide them: convex shapes' face
    * table, the crossing records, or the reference path. */
   int done = 0;
-  if (ws->use_records && ws->use_convex && a->face_of && b->face_of) {
+  if (ws->use_records && ws->use_convex && use_filter && a->face_of && b->face_of) {
     done = POLY_FN(convex_path)(a, va, b, vb, rotation, &f, ws, out) == 0;
     if (!done) ws->convex_fallbacks++;
   }
