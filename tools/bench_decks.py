@@ -68,7 +68,8 @@ def print_header():
           f"polyhedra: {POLY.relative_to(ROOT)}")
     commit = shell("git rev-parse --short HEAD") or "unknown"
     modified = shell("git status --porcelain -- " + " ".join(PACKAGE_SOURCES))
-    state = "package sources as committed" if not modified else \
+    last = shell("git log -1 --format=%h -- " + " ".join(PACKAGE_SOURCES))
+    state = f"package sources as committed, last changed in {last}" if not modified else \
         "package sources modified: " + ", ".join(line[3:] for line in modified.splitlines())
     print(f"commit: {commit} ({state})")
     library = ROOT / "build" / "lib" / "libpolyhedral.so"
