@@ -1,0 +1,15 @@
+#!/bin/bash
+# LIGGGHTS decks with their spheres turned into rock_40 polyhedra, against the spheres, one core
+# (doc/benchmarks.md, "Whole decks against LIGGGHTS' alternatives"):
+#
+#   bash tools/bench_tutorial_decks.sh [--quick] [--steps S | --all] [movingMeshGran] [hopper]
+#
+# movingMeshGran: the tutorial as Debian's liggghts-doc ships it, its particle lines converted to rock_40 of the
+# spheres' volume (tools/bench_decks.py, convert_to_polyhedra), both without dumps and cut after the first S
+# steps (default 12000, about 6 min here; --all the whole 70000, about an hour). hopper: examples/hopper/run.py
+# (300 rocks against 300 spheres, fill and discharge; about 1.5 min). Per stage and in all: LIGGGHTS' Loop time
+# / (particles x steps) for rocks and spheres and their ratio (targets: movingMeshGran at most 5, hopper at
+# most 10). --quick: 2000 steps of movingMeshGran and a 0.15 s hopper, about 20 s.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+exec /usr/bin/python3 "$root/tools/bench_decks.py" tutorial "$@"
