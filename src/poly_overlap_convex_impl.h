@@ -229,3 +229,49 @@ POLY_INLINE int POLY_FN(convex_path)(const POLY_FN(shape_view) *a, const R *va, 
   out->flush = 0;
   return 0;
 }
+
+/* A separating plane among the faces of two convex shapes: is either body
+ * wholly in front of a face of the other (to within 1e-12 of their size, as
+ * overlap_slab)? The centre line's slab misses most pairs of blocks side by
+ * side and turned; in a pile of cubes a third of the pairs past it do not
+ * touch, and this rejects them for one dot product per face and vertex, in
+ * double, before any triangle is filtered. */
+POLY_INLINE int POLY_FN(convex_separated)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                          const double *rotation, const double *translation)
+{
+  double reach = 1e-12 * ((double)a->bounding_radius + (double)b->bounding_radius);
+  for (int pass = 0; pass < 2; pass++) {
+    /* pass 0: faces of B (turned into A's frame) against A's vertices; 1: faces of A against B's. */
+    const POLY_FN(shape_view) *faced = pass ? a : b, *other = pass ? b : a;
+    for (int t = 0; t < faced->num_triangles; t++) {
+      if (faced->face_of[t] != t) continue;
+      const R *n = faced->face_normals + 3 * t, *corner = faced->vertices + 3 * faced->triangles[3 * t];
+      double normal[3], height;
+      if (!pass) {
+        double x[3];
+        for (int k = 0; k < 3; k++) {
+          normal[k] = rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2];
+          x[k] = rotation[3 * k] * corner[0] + rotation[3 * k + 1] * corner[1] + rotation[3 * k + 2] * corner[2] +
+                 translation[k];
+        }
+        height = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
+      } else {
+        /* B's vertices are R v + T: n . (R v + T) = (R^T n) . v + n . T. */
+        double turned[3];
+        for (int k = 0; k < 3; k++) turned[k] = n[k];
+        for (int k = 0; k < 3; k++)
+          normal[k] = rotation[k] * turned[0] + rotation[3 + k] * turned[1] + rotation[6 + k] * turned[2];
+        height = (double)n[0] * corner[0] + (double)n[1] * corner[1] + (double)n[2] * corner[2] -
+                 ((double)n[0] * translation[0] + (double)n[1] * translation[1] + (double)n[2] * translation[2]);
+      }
+      double lowest = 1e300;
+      for (int v = 0; v < other->num_vertices && lowest - height > reach; v++) {
+        const R *x = other->vertices + 3 * v;
+        double along = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
+        if (along < lowest) lowest = along;
+      }
+      if (lowest - height > reach) return 1;
+    }
+  }
+  return 0;
+}

@@ -526,6 +526,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   double axis_d[3], extent_a, extent_b;
   int separated = POLY_FN(overlap_slab)(a, b, rotation, translation, axis_d, &extent_a, &extent_b);
   for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
+  if (!separated && use_filter && ws->use_records && ws->use_convex && a->face_of && b->face_of)
+    separated = POLY_FN(convex_separated)(a, b, rotation, translation);
   if (separated && use_filter) {
     out->filtered_out = 1;
     return;
