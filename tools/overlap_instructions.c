@@ -5,7 +5,7 @@
  *   gcc -std=c11 -O2 -g -Isrc tools/overlap_instructions.c src/poly_overlap.c src/poly_shape.c \
  *       src/poly_mesh_read.c src/poly_convex.c -lm -o /tmp/overlap_instructions
  *   valgrind --tool=callgrind --toggle-collect='measure*' --callgrind-out-file=/tmp/cg.out \
- *       /tmp/overlap_instructions examples/shapes/cube.stl 200 [deep|flush|shallow]
+ *       /tmp/overlap_instructions examples/shapes/cube.stl 200 [deep|flush|shallow|resting] [second]
  *   callgrind_annotate /tmp/cg.out | head -30      (PROGRAM TOTALS divided by the pair count; per function)
  *
  * Pairs of one shape (fixed seed), B's centre along a random direction:
@@ -13,7 +13,11 @@
  * - flush: both at the identity, B moved along x (every pair has flush side faces);
  * - shallow: both orientations random, at the distance (bisected) where the
  *   overlap is 0.1-3 % of the particle volume (log-uniform), the poses of
- *   tools/bench_overlap.c.
+ *   tools/bench_overlap.c;
+ * - resting: A at the identity, B above it along z turned about z by a random
+ *   angle and tilted by up to 0.01 rad, moved sideways by up to a tenth of the
+ *   size, 1e-4 of the size deep (for cubes: a face resting on a face, as in a
+ *   pile).
  * Only the calls in measure() are counted (--toggle-collect), not the set-up.
  */
 #include <math.h>
@@ -58,7 +62,7 @@ __attribute__((noinline)) static double measure(const poly_shape_view_d *view, c
 int main(int argc, char **argv)
 {
   if (argc < 3) {
-    fprintf(stderr, "usage: %s SHAPE_FILE PAIRS [deep|flush|shallow]\n", argv[0]);
+    fprintf(stderr, "usage: %s SHAPE_FILE PAIRS [deep|flush|shallow|resting] [second]\n", argv[0]);
     return 2;
   }
   poly_shape shape;
@@ -68,11 +72,12 @@ int main(int argc, char **argv)
     return 1;
   }
   int pairs = atoi(argv[2]);
-  const char *mode = argc > 3 ? argv[3] : "deep";
-  int flush = !strcmp(mode, "flush"), shallow = !strcmp(mode, "shallow");
+  const char *mode = argc > 3 ? argv[3] : "deep"; /* deep | flush | shallow | resting */
+  int flush = !strcmp(mode, "flush"), shallow = !strcmp(mode, "shallow"), resting = !strcmp(mode, "resting");
   poly_shape_view_d view = poly_shape_view_of(&shape);
   poly_overlap_workspace_d ws;
   if (poly_overlap_workspace_create_d(&ws, shape.num_vertices, shape.num_triangles) != 0) return 1;
+  ws.want_second_moment = argc > 4 && !strcmp(argv[4], "second"); /* as the rocking damping asks */
   poly_pose *poses_a = calloc((size_t)pairs, sizeof(poly_pose)), *poses_b = calloc((size_t)pairs, sizeof(poly_pose));
   for (int p = 0; p < pairs; p++) {
     poly_pose *a = &poses_a[p], *b = &poses_b[p];
@@ -88,6 +93,20 @@ int main(int argc, char **argv)
       }
       for (int k = 0; k < 3; k++) direction[k] /= sqrt(norm);
       distance = 2.0 * shape.bounding_radius * (0.55 + 0.3 * uniform());
+    }
+    if (resting) {
+      double turn = 6.283185307179586 * uniform(), tilt = 0.01 * uniform(), tilt_axis = 6.283185307179586 * uniform();
+      double qz[4] = {cos(0.5 * turn), 0, 0, sin(0.5 * turn)};
+      double qt[4] = {cos(0.5 * tilt), sin(0.5 * tilt) * cos(tilt_axis), sin(0.5 * tilt) * sin(tilt_axis), 0};
+      b->quaternion[0] = qt[0] * qz[0] - qt[3] * qz[3];
+      b->quaternion[1] = qt[1] * qz[0] + qt[2] * qz[3];
+      b->quaternion[2] = qt[2] * qz[0] - qt[1] * qz[3];
+      b->quaternion[3] = qt[3] * qz[0] + qt[0] * qz[3];
+      double size = 2.0 * shape.bounding_radius / sqrt(3.0);
+      direction[0] = 0.1 * size * (2 * uniform() - 1);
+      direction[1] = 0.1 * size * (2 * uniform() - 1);
+      direction[2] = size * (1.0 - 1e-4);
+      distance = 1.0;
     }
     if (shallow) {
       double target = shape.volume * pow(10.0, -3.0 + log10(30.0) * uniform());
