@@ -19,13 +19,33 @@
  * Exact for the approximant, with no cap: every face of the wall solid is vertical (parallel to z), so by
  * the divergence theorem with the fields (0, 0, z), (0, 0, x z), (0, 0, y z), (0, 0, z^2 / 2), whose flux
  * through vertical faces vanishes, the volume and first moment of (particle n solid) are integrals over the
- * particle's own surface inside the solid only. Each triangle is clipped to the three half-planes of each
- * sector that its part in the solid spans (a convex polygon, Sutherland-Hodgman, no division by the
- * triangle's tilt) and integrated exactly (linear and quadratic integrands over triangles); a vertical
- * triangle adds nothing. Triangles wholly in the solid, and runs of sectors in which a triangle is, are one
- * piece each, so only triangles crossing the circle are cut sector by sector. The contact normal is the
- * direction of the summed area vectors of the particle's surface inside the solid (as for mesh walls; it
- * is minus the cap's, horizontal), the depth the deepest point's radial distance into the exact cylinder. */
+ * particle's own surface inside the solid only: for each triangle, integrals of linear and quadratic
+ * functions over its part in the solid. A vertical triangle adds nothing to them. The contact normal is the
+ * direction of the summed area vectors of the particle's surface inside the solid (as for mesh walls; it is
+ * minus the cap's, horizontal), the depth the deepest point's radial distance into the exact cylinder.
+ *
+ * How each triangle's part is found (poly_cylinder_overlap). Triangles wholly off or wholly in the solid are
+ * one test each, and most are skipped before they are even turned into the world frame, by a bound on their
+ * vertices' distance from the axis along the direction to the particle's centre (one dot product per
+ * vertex). A triangle across the polygon's boundary is worked in projection on the xy plane
+ * (poly_cylinder_fast_piece): the polygon is convex, so each edge of the projected triangle meets it in one
+ * interval, whose ends lie on the facets about where the edge crosses the corner circle; the piece (projected
+ * triangle n polygon, or minus it for the drum) is bounded by parts of the triangle's edges and, between
+ * them, arcs of the polygon through its corners. Its area and first and second moments follow from its
+ * boundary, one term per segment (Green's theorem), and the integrals over the triangle's part from those
+ * and the triangle's plane z(x, y); for a nearly vertical triangle, whose plane is ill-conditioned as a
+ * function of (x, y), the same boundary is lifted onto the triangle by interpolation and integrated in 3D.
+ * A polygon corner inside the triangle thus costs one term.
+ *
+ * Before (commit 4644296), every crossing triangle was clipped (Sutherland-Hodgman) to the three half-planes
+ * of each sector its part spans, a sector at a time, with sines and cosines for each sector, after angular
+ * ranges from several atan2 per triangle. At the default sagitta (1e-6 of the particle's bounding radius) in
+ * a drum of 10 particle diameters, N is 6000 to 8000 and a contact of 0.1-3 % of the particle's volume
+ * spans 100 to 250 sector pieces: 8 to 75 us per contact on one core (tools/bench_cylinder.sh,
+ * doc/benchmarks.md); now 1.3 to 16 us, with the same approximant and the same results to rounding. That
+ * computation is kept as poly_cylinder_overlap_reference, which tests/test_wall_cylinder.py compares with
+ * poly_cylinder_overlap on random poses; it still does the triangles whose projection reaches the axis
+ * (every sector: a particle across the axis of a drum or a pillar thinner than it). */
 #ifndef POLY_CYLINDER_H
 #define POLY_CYLINDER_H
 
@@ -88,18 +108,19 @@ POLY_INLINE int poly_cylinder_clip(const double (*in)[3], int count, double a, d
   return corners;
 }
 
-/* Distance in the xy plane from the axis (the origin) to the projection of triangle p. */
-POLY_INLINE double poly_cylinder_axis_distance(const double (*p)[3])
+/* Squared distance in the xy plane from the axis (the origin) to the projection of triangle p (0 when it
+ * surrounds or touches the axis). */
+POLY_INLINE double poly_cylinder_axis_distance2(const double (*p)[3])
 {
-  double orientation[3], best = -1.0;
+  double orientation[3], best = INFINITY;
   for (int c = 0; c < 3; c++) {
     const double *a = p[c], *b = p[(c + 1) % 3];
     orientation[c] = a[0] * b[1] - a[1] * b[0];   /* side of the origin relative to edge a->b */
     double ex = b[0] - a[0], ey = b[1] - a[1], length2 = ex * ex + ey * ey;
     double t = length2 > 0.0 ? -(a[0] * ex + a[1] * ey) / length2 : 0.0;
     t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
-    double dx = a[0] + t * ex, dy = a[1] + t * ey, distance = sqrt(dx * dx + dy * dy);
-    if (best < 0.0 || distance < best) best = distance;
+    double dx = a[0] + t * ex, dy = a[1] + t * ey, distance2 = dx * dx + dy * dy;
+    best = distance2 < best ? distance2 : best;
   }
   if ((orientation[0] >= 0.0 && orientation[1] >= 0.0 && orientation[2] >= 0.0) ||
       (orientation[0] <= 0.0 && orientation[1] <= 0.0 && orientation[2] <= 0.0))
@@ -112,22 +133,26 @@ typedef struct poly_cylinder_sums {
   double volume, moment[3], area, area_vector[3];
 } poly_cylinder_sums;
 
+/* Adds the triangle (a, b, c) of the particle's surface (in its own order) to the sums. */
+POLY_INLINE void poly_cylinder_add_triangle(const double a[3], const double b[3], const double c[3],
+                                            poly_cylinder_sums *sums)
+{
+  double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  double projected = 0.5 * cross[2];   /* n_z dA over the piece */
+  double sum_z = a[2] + b[2] + c[2];
+  sums->volume += projected * sum_z / 3.0;
+  for (int k = 0; k < 2; k++)
+    sums->moment[k] += projected * (a[k] * a[2] + b[k] * b[2] + c[k] * c[2] + (a[k] + b[k] + c[k]) * sum_z) / 12.0;
+  sums->moment[2] += projected * (a[2] * a[2] + b[2] * b[2] + c[2] * c[2] + sum_z * sum_z) / 24.0;
+  for (int k = 0; k < 3; k++) sums->area_vector[k] += 0.5 * cross[k];
+  sums->area += 0.5 * sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+}
+
 /* Adds a planar polygon of the particle's surface (in its own order) to the sums. */
 POLY_INLINE void poly_cylinder_add_polygon(const double (*polygon)[3], int corners, poly_cylinder_sums *sums)
 {
-  for (int m = 1; m + 1 < corners; m++) {
-    const double *a = polygon[0], *b = polygon[m], *c = polygon[m + 1];
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    double projected = 0.5 * cross[2];   /* n_z dA over the piece */
-    double sum_z = a[2] + b[2] + c[2];
-    sums->volume += projected * sum_z / 3.0;
-    for (int k = 0; k < 2; k++)
-      sums->moment[k] += projected * (a[k] * a[2] + b[k] * b[2] + c[k] * c[2] + (a[k] + b[k] + c[k]) * sum_z) / 12.0;
-    sums->moment[2] += projected * (a[2] * a[2] + b[2] * b[2] + c[2] * c[2] + sum_z * sum_z) / 24.0;
-    for (int k = 0; k < 3; k++) sums->area_vector[k] += 0.5 * cross[k];
-    sums->area += 0.5 * sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
-  }
+  for (int m = 1; m + 1 < corners; m++) poly_cylinder_add_triangle(polygon[0], polygon[m], polygon[m + 1], sums);
 }
 
 /* Triangle p's piece in one sector of the polygon's solid (side +1: beyond the facet, the drum; -1: before
@@ -287,15 +312,351 @@ POLY_INLINE void poly_cylinder_block_piece(const double (*p)[3], int first, int 
   poly_cylinder_add_polygon((const double (*)[3])polygon_b, corners, sums);
 }
 
-/* shape: double-precision view (body frame). rotation: body to world (row major), position: centre of mass.
- * axis: (CX, CY); facets: of the polygon standing in for the circle (poly_cylinder_facets). On return result
- * has volume, centroid, normal (from the particle into the wall, horizontal), depth, area and projected_area
- * (of the particle's surface inside the wall), world frame; all zero without overlap. */
-POLY_INLINE void poly_cylinder_overlap(const poly_shape_view_d *shape, const double rotation[9],
-                                       const double position[3], const double axis[2], double radius, int facets,
-                                       poly_overlap_result *result)
+/* Triangle p (crossing the polygon's boundary, its projection clear of the axis) clipped sector by sector in
+ * the sectors its part in the solid spans: those beyond the inscribed circle (drum), or within the corner
+ * circle (pillar). Where the triangle is wholly in the solid (its parts within the corner circle, or beyond the
+ * inscribed one, span other sectors) whole blocks of sectors are one piece. */
+POLY_INLINE void poly_cylinder_crossing_pieces(const double (*p)[3], int facets, double h, int drum,
+                                               poly_cylinder_sums *sums)
 {
-  const double two_pi = 2.0 * 3.14159265358979323846;
+  const double step = 2.0 * 3.14159265358979323846 / facets, corner_radius = h / cos(0.5 * step);
+  double ranges[3][2];
+  int spans[3][2], partial[3][2];
+  int span_count = poly_cylinder_triangle_ranges(p, drum ? h : corner_radius, drum, ranges);
+  span_count = poly_cylinder_sector_intervals(ranges, span_count, step, spans);
+  int partial_count = poly_cylinder_triangle_ranges(p, drum ? corner_radius : h, !drum, ranges);
+  partial_count = poly_cylinder_sector_intervals(ranges, partial_count, step, partial);
+  for (int r = 0; r < span_count; r++) {
+    int block = INT_MIN;   /* first sector of the open block */
+    for (int s = spans[r][0]; s <= spans[r][1]; s++) {
+      int whole = 1;
+      for (int q = 0; q < partial_count; q++) whole = whole && !(s >= partial[q][0] && s <= partial[q][1]);
+      if (whole && block == INT_MIN) block = s;
+      if (block != INT_MIN && (!whole || s == spans[r][1] || s - block + 1 >= facets / 8)) {
+        int last = whole ? s : s - 1;
+        if (last >= block) poly_cylinder_block_piece(p, block, last, facets, sums);
+        block = INT_MIN;
+      }
+      if (!whole) poly_cylinder_sector_pieces(p, s, s, facets, h, drum ? 1.0 : -1.0, sums);
+    }
+  }
+}
+
+/* The polygon of one call: its facet count, angle step, facet distance h, corner radius h / cos(step / 2),
+ * and cos and sin of the step (corners and facet normals are stepped through by rotation). */
+typedef struct poly_cylinder_polygon {
+  int facets;
+  double step, h, corner_radius, cos_step, sin_step;
+} poly_cylinder_polygon;
+
+POLY_INLINE poly_cylinder_polygon poly_cylinder_polygon_of(double radius, int facets)
+{
+  poly_cylinder_polygon g;
+  g.facets = facets;
+  g.step = 2.0 * 3.14159265358979323846 / facets;
+  g.h = poly_cylinder_facet_distance(radius, facets);
+  g.corner_radius = g.h / cos(0.5 * g.step);
+  g.cos_step = cos(g.step);
+  g.sin_step = sin(g.step);
+  return g;
+}
+
+/* The facet (0..N-1) whose sector holds the point (x, y) (relative to the axis). */
+POLY_INLINE int poly_cylinder_sector_of(const poly_cylinder_polygon *g, double x, double y)
+{
+  int facet = (int)floor(atan2(y, x) / g->step) % g->facets;
+  return facet < 0 ? facet + g->facets : facet;
+}
+
+/* Whether the point (x, y) is inside the polygon (its facets' side towards the axis, boundary included). */
+POLY_INLINE int poly_cylinder_in_polygon(const poly_cylinder_polygon *g, double x, double y)
+{
+  double r2 = x * x + y * y;
+  if (r2 <= g->h * g->h) return 1; /* the inscribed disk */
+  if (r2 >= g->corner_radius * g->corner_radius) return 0;
+  double angle = (poly_cylinder_sector_of(g, x, y) + 0.5) * g->step;
+  return cos(angle) * x + sin(angle) * y <= g->h;
+}
+
+/* Where the line a + t d (relative to the axis) crosses the polygon's boundary inwards (enter = 1: the
+ * largest entry parameter over the facets) or outwards (the smallest exit parameter), t0 being where it
+ * crosses the corner circle on that side. Between the two crossings the line runs outside the polygon and
+ * inside the corner circle, an annulus in which a segment spans at most one step of angle, so the facet
+ * sought is within one of t0's sector; the five about it are tried (one more each side for rounding).
+ * Returns the parameter; *facet gets its facet (0..N-1). */
+POLY_INLINE double poly_cylinder_line_crossing(const poly_cylinder_polygon *g, const double a[2], const double d[2],
+                                               double t0, int enter, int *facet)
+{
+  int first = poly_cylinder_sector_of(g, a[0] + t0 * d[0], a[1] + t0 * d[1]) - 2;
+  double angle = (first + 0.5) * g->step, nx = cos(angle), ny = sin(angle);
+  double best = t0;
+  int best_facet = first + 2, found = 0;
+  for (int m = 0; m < 5; m++) {
+    double along = nx * d[0] + ny * d[1];
+    if (enter ? along < 0.0 : along > 0.0) {
+      double t = (g->h - nx * a[0] - ny * a[1]) / along;
+      if (!found || (enter ? t > best : t < best)) best = t, best_facet = first + m, found = 1;
+    }
+    double rotated = nx * g->cos_step - ny * g->sin_step;
+    ny = ny * g->cos_step + nx * g->sin_step;
+    nx = rotated;
+  }
+  best_facet %= g->facets;
+  *facet = best_facet < 0 ? best_facet + g->facets : best_facet;
+  return best;
+}
+
+/* Where the segment a -> a + d (relative to the axis) crosses the polygon's boundary, given whether its ends
+ * are inside (poly_cylinder_in_polygon). The ends decide how many crossings there are (inside to outside: one
+ * exit; outside to inside: one entry; outside to outside: none, or an entry and an exit), so that along a
+ * closed path entries and exits alternate whatever the rounding; only where the segment passes outside to
+ * outside do the parameters decide whether it enters. Returns the count (0..2); t (in [0, 1]), facet and
+ * enter (1: into the polygon) of each, in order along the segment. */
+POLY_INLINE int poly_cylinder_edge_crossings(const poly_cylinder_polygon *g, const double a[2], const double d[2],
+                                             int inside_a, int inside_b, double t[2], int facet[2], int enter[2])
+{
+  if (inside_a && inside_b) return 0;
+  double qa = d[0] * d[0] + d[1] * d[1], qb = a[0] * d[0] + a[1] * d[1];
+  double qc = a[0] * a[0] + a[1] * a[1] - g->corner_radius * g->corner_radius, disc = qb * qb - qa * qc;
+  if (!(qa > 0.0)) return 0; /* a point in projection: both ends alike */
+  if (!(disc > 0.0)) {
+    if (inside_a == inside_b) return 0; /* clear of the corner circle */
+    disc = 0.0;
+  }
+  double root = sqrt(disc), t1 = (-qb - root) / qa, t2 = (-qb + root) / qa;
+  if (!inside_a && !inside_b && (t2 <= 0.0 || t1 >= 1.0)) return 0;
+  double t_in = 0.0, t_out = 1.0;
+  int facet_in = 0, facet_out = 0, count = 0;
+  if (!inside_a) t_in = poly_cylinder_line_crossing(g, a, d, t1, 1, &facet_in);
+  if (!inside_b) t_out = poly_cylinder_line_crossing(g, a, d, t2, 0, &facet_out);
+  t_in = t_in < 0.0 ? 0.0 : t_in > 1.0 ? 1.0 : t_in;
+  t_out = t_out < 0.0 ? 0.0 : t_out > 1.0 ? 1.0 : t_out;
+  if (!inside_a && !inside_b && !(t_in < t_out)) return 0; /* through the annulus only */
+  if (!inside_a) t[count] = t_in, facet[count] = facet_in, enter[count++] = 1;
+  if (!inside_b) t[count] = t_out, facet[count] = facet_out, enter[count++] = 0;
+  return count;
+}
+
+/* Twice, six, twelve and twenty-four times the signed area and first and second moments (about the origin)
+ * of triangles (origin, u, w) summed over directed segments u -> w: over a closed boundary, those of the
+ * region it encloses (Green's theorem), counted positive when the boundary runs counter-clockwise. */
+typedef struct poly_cylinder_moments {
+  double m0, mx, my, mxx, mxy, myy;
+} poly_cylinder_moments;
+
+POLY_INLINE void poly_cylinder_moments_add(poly_cylinder_moments *m, double ux, double uy, double wx, double wy)
+{
+  double a = ux * wy - uy * wx;
+  m->m0 += a;
+  m->mx += a * (ux + wx);
+  m->my += a * (uy + wy);
+  m->mxx += a * (ux * ux + ux * wx + wx * wx);
+  m->myy += a * (uy * uy + uy * wy + wy * wy);
+  m->mxy += a * (2.0 * (ux * uy + wx * wy) + ux * wy + wx * uy);
+}
+
+/* Where a triangle's boundary crosses the polygon's (its projection's). */
+typedef struct poly_cylinder_crossing {
+  double x[3]; /* relative to the axis (z: to the particle's centre) */
+  int edge, facet, enter;
+} poly_cylinder_crossing;
+
+/* Triangles nearer vertical than this (|n_z| of the unit normal below it) have their pieces integrated in 3D
+ * (poly_cylinder_fast_piece): in projection the integrals divide by n_z, which magnifies the rounding by up
+ * to 1 / POLY_CYLINDER_MIN_TILT. */
+#define POLY_CYLINDER_MIN_TILT 1e-2
+
+/* The point of triangle p's plane above rho dir (dir a unit vector, the point inside the triangle's
+ * projection), found as the clipping finds points: on the triangle's chord in the vertical plane through the
+ * axis along dir (interpolated along two edges), interpolated by the distance from the axis. So it is
+ * well defined however steep the triangle; at a point just off the projection (rounding) it is the nearest
+ * end of that chord, or the nearest vertex. */
+POLY_INLINE void poly_cylinder_lift(const double (*p)[3], const double dir[2], double rho, double out[3])
+{
+  double side[3], end[2][3];
+  int ends = 0, nearest = 0;
+  for (int i = 0; i < 3; i++) {
+    side[i] = dir[0] * p[i][1] - dir[1] * p[i][0];
+    nearest = fabs(side[i]) < fabs(side[nearest]) ? i : nearest;
+  }
+  for (int i = 0; i < 3 && ends < 2; i++) {
+    int j = (i + 1) % 3;
+    if ((side[i] <= 0.0) == (side[j] <= 0.0)) continue;
+    double w = side[i] / (side[i] - side[j]);
+    for (int k = 0; k < 3; k++) end[ends][k] = p[i][k] + w * (p[j][k] - p[i][k]);
+    ends++;
+  }
+  if (ends < 2) {
+    for (int k = 0; k < 3; k++) out[k] = p[nearest][k];
+    return;
+  }
+  double r0 = dir[0] * end[0][0] + dir[1] * end[0][1], r1 = dir[0] * end[1][0] + dir[1] * end[1][1];
+  double t = r1 != r0 ? (rho - r0) / (r1 - r0) : 0.5;
+  t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+  for (int k = 0; k < 3; k++) out[k] = end[0][k] + t * (end[1][k] - end[0][k]);
+}
+
+/* The fast path: triangle p's part in the polygon's solid (drum: outside the polygon; else inside it),
+ * added to the sums, as poly_cylinder_sector_pieces over all sectors would add it. For triangles whose
+ * projection is clear of the axis (so that each arc spans less than half the polygon). The polygon is convex,
+ * so along each edge of the triangle's projection the part inside it is one interval; its ends are found on
+ * the facets about where the edge crosses the corner circle. The boundary of (projection n polygon) runs along
+ * the triangle's edges inside the polygon and, from each point where the triangle's boundary leaves the
+ * polygon to the next one where it enters, along the polygon's boundary (the way the triangle is wound,
+ * through the corners in between); that of (projection \ polygon) runs along the edges outside and back along
+ * the same arcs. The piece's integrals are sums of one term per segment of that boundary (Green's theorem):
+ * area and first and second moments of its projection about a crossing point (poly_cylinder_moments_add; the
+ * terms stay of the piece's size), combined with the triangle's plane z(x, y); or, for a nearly vertical
+ * triangle, the integrals over the triangles (crossing point, segment) on the triangle's plane, the polygon's
+ * corners lifted onto it (poly_cylinder_lift). A vertical triangle's arcs are the vertical segments where it
+ * meets the facets' planes. Each corner of the polygon inside the triangle costs one term, with no clipping. */
+POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const poly_cylinder_polygon *g, int drum,
+                                          poly_cylinder_sums *sums)
+{
+  double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+  double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+  double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  double norm2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+  const int steep = !(c[2] * c[2] > POLY_CYLINDER_MIN_TILT * POLY_CYLINDER_MIN_TILT * norm2);
+  int inside[3];
+  for (int i = 0; i < 3; i++) inside[i] = poly_cylinder_in_polygon(g, p[i][0], p[i][1]);
+
+  /* The crossings in order along the triangle's boundary. */
+  poly_cylinder_crossing crossing[6];
+  int count = 0;
+  for (int i = 0; i < 3; i++) {
+    int next = (i + 1) % 3;
+    const double a[2] = {p[i][0], p[i][1]}, d[2] = {p[next][0] - p[i][0], p[next][1] - p[i][1]};
+    double t[2];
+    int facet[2], enter[2], n = poly_cylinder_edge_crossings(g, a, d, inside[i], inside[next], t, facet, enter);
+    for (int k = 0; k < n; k++, count++) {
+      crossing[count].x[0] = a[0] + t[k] * d[0];
+      crossing[count].x[1] = a[1] + t[k] * d[1];
+      crossing[count].x[2] = p[i][2] + t[k] * (p[next][2] - p[i][2]);
+      crossing[count].edge = i;
+      crossing[count].facet = facet[k];
+      crossing[count].enter = enter[k];
+    }
+  }
+  if (count == 0) { /* wholly on one side */
+    if (inside[0] != drum) poly_cylinder_add_polygon(p, 3, sums);
+    return;
+  }
+
+  /* The boundary's terms about the first crossing o: first the parts of the edges on the solid's side (inside
+   * the polygon for the pillar, outside it for the drum), then the arcs, from each exit to the next entry,
+   * the way the triangle is wound, subtracted for the drum (its piece runs back along them). The corners are
+   * stepped through by rotation, renormalised so that their distance from the axis does not drift. */
+  const double *o = crossing[0].x;
+  poly_cylinder_moments m = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, arcs = m;
+  poly_cylinder_sums piece = {0.0, {0.0, 0.0, 0.0}, 0.0, {0.0, 0.0, 0.0}}, piece_arcs = piece;
+  int k = 0;
+  for (int i = 0; i < 3; i++) {
+    int state = inside[i];
+    const double *u = p[i];
+    for (; k <= count; k++) {
+      const double *w = k < count && crossing[k].edge == i ? crossing[k].x : p[(i + 1) % 3];
+      if (state != drum && steep) poly_cylinder_add_triangle(o, u, w, &piece);
+      if (state != drum && !steep) poly_cylinder_moments_add(&m, u[0] - o[0], u[1] - o[1], w[0] - o[0], w[1] - o[1]);
+      if (w == p[(i + 1) % 3]) break;
+      u = w, state = crossing[k].enter;
+    }
+  }
+  const int facets = g->facets, forward = c[2] > 0.0; /* counter-clockwise in projection */
+  for (k = 0; k < count; k++) {
+    if (crossing[k].enter) continue;
+    const poly_cylinder_crossing *out = &crossing[k], *in = &crossing[(k + 1) % count];
+    int corners = ((forward ? in->facet - out->facet : out->facet - in->facet) % facets + facets) % facets;
+    if (corners > facets / 2) corners = 0; /* both ends at one corner, each rounded to another side of it */
+    double turn = forward ? g->sin_step : -g->sin_step, u[3] = {out->x[0], out->x[1], out->x[2]};
+    double angle = (forward ? out->facet + 1 : out->facet) * g->step, dir[2] = {cos(angle), sin(angle)};
+    for (int q = 0; q <= corners; q++) {
+      double w[3] = {in->x[0], in->x[1], in->x[2]};
+      if (q < corners && steep) poly_cylinder_lift(p, dir, g->corner_radius, w);
+      if (q < corners && !steep) w[0] = g->corner_radius * dir[0], w[1] = g->corner_radius * dir[1];
+      if (steep) poly_cylinder_add_triangle(o, u, w, &piece_arcs);
+      else poly_cylinder_moments_add(&arcs, u[0] - o[0], u[1] - o[1], w[0] - o[0], w[1] - o[1]);
+      for (int n = 0; n < 3; n++) u[n] = w[n];
+      double rotated = dir[0] * g->cos_step - dir[1] * turn;
+      dir[1] = dir[1] * g->cos_step + dir[0] * turn;
+      dir[0] = rotated;
+      double renorm = 1.5 - 0.5 * (dir[0] * dir[0] + dir[1] * dir[1]);
+      dir[0] *= renorm, dir[1] *= renorm;
+    }
+  }
+  const double sign = drum ? -1.0 : 1.0;
+  if (steep) { /* the piece's area: the length of its area vector (it is planar) */
+    sums->volume += piece.volume + sign * piece_arcs.volume;
+    for (int n = 0; n < 3; n++) {
+      sums->moment[n] += piece.moment[n] + sign * piece_arcs.moment[n];
+      piece.area_vector[n] += sign * piece_arcs.area_vector[n];
+      sums->area_vector[n] += piece.area_vector[n];
+    }
+    const double *v = piece.area_vector;
+    sums->area += sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    return;
+  }
+  m.m0 += sign * arcs.m0, m.mx += sign * arcs.mx, m.my += sign * arcs.my;
+  m.mxx += sign * arcs.mxx, m.mxy += sign * arcs.mxy, m.myy += sign * arcs.myy;
+
+  /* z = oz + beta X + gamma Y on the triangle's plane (X, Y about o). */
+  const double ox = o[0], oy = o[1], oz = o[2];
+  const double area = m.m0 / 2.0, mx = m.mx / 6.0, my = m.my / 6.0;
+  const double mxx = m.mxx / 12.0, myy = m.myy / 12.0, mxy = m.mxy / 24.0;
+  const double beta = -c[0] / c[2], gamma = -c[1] / c[2], slope = beta * mx + gamma * my;
+  const double volume = oz * area + slope;
+  sums->volume += volume;
+  sums->moment[0] += ox * volume + oz * mx + beta * mxx + gamma * mxy;
+  sums->moment[1] += oy * volume + oz * my + beta * mxy + gamma * myy;
+  sums->moment[2] += 0.5 * (oz * oz * area + 2.0 * oz * slope + beta * beta * mxx + 2.0 * beta * gamma * mxy +
+                            gamma * gamma * myy);
+  const double scale = area / c[2]; /* the piece's area vector: the triangle's, c / 2, times area / (c_z / 2) */
+  for (int n = 0; n < 3; n++) sums->area_vector[n] += c[n] * scale;
+  sums->area += sqrt(norm2) * fabs(scale);
+}
+
+/* Triangle p's part in the polygon's solid (world frame, relative to the axis and the particle's centre's z),
+ * added to the sums: nothing for a triangle wholly off the solid (inside the inscribed circle for the drum,
+ * beyond the corner circle for the pillar), the whole triangle when wholly in it, else its pieces: every
+ * sector where its projection reaches the axis, the fast path (fast = 1) or the sector-by-sector clipping.
+ * Returns the squared distance of its projection from the axis (the pillar's depth), or INFINITY for a drum
+ * triangle within the inscribed circle. */
+POLY_INLINE double poly_cylinder_triangle(const double (*p)[3], const poly_cylinder_polygon *g, int drum, int fast,
+                                          poly_cylinder_sums *sums)
+{
+  const double h2 = g->h * g->h, corner2 = g->corner_radius * g->corner_radius;
+  int within = 1; /* the inscribed circle */
+  for (int c = 0; c < 3; c++) within = within && p[c][0] * p[c][0] + p[c][1] * p[c][1] < h2;
+  if (drum && within) return INFINITY;
+  double distance2 = poly_cylinder_axis_distance2(p);
+  if (!drum && distance2 >= corner2) return distance2;
+  if (drum ? distance2 >= corner2 : within) poly_cylinder_add_polygon(p, 3, sums);
+  else if (!(distance2 > 0.0)) poly_cylinder_sector_pieces(p, 0, g->facets - 1, g->facets, g->h, drum ? 1.0 : -1.0, sums);
+  else if (fast) poly_cylinder_fast_piece(p, g, drum, sums);
+  else poly_cylinder_crossing_pieces(p, g->facets, g->h, drum, sums);
+  return distance2;
+}
+
+/* Whether a body-frame vertex may reach the polygon's solid: its distance along `toward` (the horizontal
+ * direction from the axis to the particle's centre, turned into the body frame) between the bounds of
+ * poly_cylinder_overlap. */
+POLY_INLINE int poly_cylinder_may_reach(const double toward[3], const double v[3], double above, double below)
+{
+  double s = toward[0] * v[0] + toward[1] * v[1] + toward[2] * v[2];
+  return s > above && s < below;
+}
+
+/* Shapes of up to this many vertices have them marked once per call (a byte each, on the stack); larger
+ * ones test the bound per triangle. */
+#define POLY_CYLINDER_NEAR_VERTICES 4096
+
+/* The overlap (poly_cylinder_overlap) computed the fast way (fast = 1) or the straightforward way (fast = 0:
+ * no triangle skipped by the cheap bound, every crossing triangle clipped sector by sector, as before the
+ * fast path; the tests compare the two). */
+POLY_INLINE void poly_cylinder_overlap_with(const poly_shape_view_d *shape, const double rotation[9],
+                                            const double position[3], const double axis[2], double radius,
+                                            int facets, int fast, poly_overlap_result *result)
+{
   result->volume = result->depth = result->area = result->projected_area = 0.0;
   for (int k = 0; k < 3; k++) result->centroid[k] = result->normal[k] = 0.0;
   result->num_nodes = result->num_inconsistent = result->filtered_out = result->recomputed = result->smoothed = 0;
@@ -310,90 +671,99 @@ POLY_INLINE void poly_cylinder_overlap(const poly_shape_view_d *shape, const dou
     result->filtered_out = 1;
     return;
   }
-  const double step = two_pi / facets, h = poly_cylinder_facet_distance(radius, facets);
-  const double corner_radius = h / cos(0.5 * step), side = drum ? 1.0 : -1.0;
+  const poly_cylinder_polygon g = poly_cylinder_polygon_of(radius, facets);
+  const double h = g.h, corner_radius = g.corner_radius;
+
+  /* The cheap bound: a body-frame point v at s = u . (rotation v) along the horizontal unit u from the axis
+   * to the centre is at r >= centre_distance + s from the axis, and at r^2 <= centre_distance^2 +
+   * 2 centre_distance s + reach^2. So nothing with s <= (h^2 - centre_distance^2 - reach^2) /
+   * (2 centre_distance) reaches beyond the inscribed circle (the drum's solid), nothing with s >=
+   * corner_radius - centre_distance inside the corner circle (the pillar's), nor, R being between the two,
+   * into the exact cylinder's solid. Triangles whose three corners are there are skipped without turning
+   * them, and so are such vertices when counting those in the solid. The margins cover rounding. With the
+   * centre on the axis there is no bound: nothing is skipped. */
+  const int cull = fast && centre_distance > 0.0;
+  double toward[3] = {0.0, 0.0, 0.0};
+  if (cull)
+    for (int k = 0; k < 3; k++) toward[k] = (rotation[k] * offset[0] + rotation[3 + k] * offset[1]) / centre_distance;
+  const double margin = 1e-12 * (centre_distance + reach), reach2 = reach * reach * (1.0 + 1e-12);
+  const double above = cull && drum ? ((h - centre_distance) * (h + centre_distance) - reach2) /
+                                          (2.0 * centre_distance) - margin
+                                    : -INFINITY;
+  const double below = cull && !drum ? corner_radius - centre_distance + margin : INFINITY;
+  unsigned char near[POLY_CYLINDER_NEAR_VERTICES];
+  const int masked = cull && shape->num_vertices <= POLY_CYLINDER_NEAR_VERTICES;
+  if (masked)
+    for (int i = 0; i < shape->num_vertices; i++)
+      near[i] = poly_cylinder_may_reach(toward, shape->vertices + 3 * i, above, below);
 
   poly_cylinder_sums sums = {0.0, {0.0, 0.0, 0.0}, 0.0, {0.0, 0.0, 0.0}};
-  double deepest = 0.0, nearest = -1.0;
+  double nearest2 = INFINITY;
   for (int t = 0; t < shape->num_triangles; t++) {
     const int *tri = shape->triangles + 3 * t;
-    double p[3][3], r2[3];
+    int reach_in = !cull;
+    for (int c = 0; c < 3 && !reach_in; c++)
+      reach_in = masked ? near[tri[c]] : poly_cylinder_may_reach(toward, shape->vertices + 3 * tri[c], above, below);
+    if (!reach_in) continue;
+    double p[3][3];
     for (int c = 0; c < 3; c++) {
       double world[3];
       poly_matrix_apply(rotation, shape->vertices + 3 * tri[c], world);
       for (int k = 0; k < 3; k++) p[c][k] = world[k] + offset[k];
-      r2[c] = p[c][0] * p[c][0] + p[c][1] * p[c][1];
     }
-    const double (*corners)[3] = (const double (*)[3])p;
-    /* Triangles wholly off the solid of the polygon: inside its inscribed circle (the drum, convex), or
-     * farther from the axis than its corners (the pillar). */
-    if (drum && r2[0] < h * h && r2[1] < h * h && r2[2] < h * h) continue;
-    double distance = poly_cylinder_axis_distance(corners);
-    if (!drum) {
-      if (nearest < 0.0 || distance < nearest) nearest = distance;
-      if (distance >= corner_radius) continue;
-    }
-    /* Triangles wholly in the polygon's solid: beyond its corner circle (the drum), or inside its inscribed
-     * circle (the pillar). */
-    if (drum ? distance >= corner_radius : r2[0] <= h * h && r2[1] <= h * h && r2[2] <= h * h) {
-      poly_cylinder_add_polygon(corners, 3, &sums);
-      continue;
-    }
-    if (!(distance > 0.0)) {   /* the projection surrounds or touches the axis: every sector */
-      poly_cylinder_sector_pieces(corners, 0, facets - 1, facets, h, side, &sums);
-      continue;
-    }
-    /* Only the sectors the triangle's parts in the solid span: those beyond the inscribed circle (drum), or
-     * within the corner circle (pillar). Where the triangle is wholly in the solid (its parts within the
-     * corner circle, or beyond the inscribed one, span other sectors) whole blocks of sectors are one piece. */
-    double ranges[3][2];
-    int spans[3][2], partial[3][2];
-    int span_count = poly_cylinder_triangle_ranges(corners, drum ? h : corner_radius, drum, ranges);
-    span_count = poly_cylinder_sector_intervals(ranges, span_count, step, spans);
-    int partial_count = poly_cylinder_triangle_ranges(corners, drum ? corner_radius : h, !drum, ranges);
-    partial_count = poly_cylinder_sector_intervals(ranges, partial_count, step, partial);
-    for (int r = 0; r < span_count; r++) {
-      int block = INT_MIN;   /* first sector of the open block */
-      for (int s = spans[r][0]; s <= spans[r][1]; s++) {
-        int whole = 1;
-        for (int q = 0; q < partial_count; q++) whole = whole && !(s >= partial[q][0] && s <= partial[q][1]);
-        if (whole && block == INT_MIN) block = s;
-        if (block != INT_MIN && (!whole || s == spans[r][1] || s - block + 1 >= facets / 8)) {
-          int last = whole ? s : s - 1;
-          if (last >= block) poly_cylinder_block_piece(corners, block, last, facets, &sums);
-          block = INT_MIN;
-        }
-        if (!whole) poly_cylinder_sector_pieces(corners, s, s, facets, h, side, &sums);
-      }
-    }
+    double distance2 = poly_cylinder_triangle((const double (*)[3])p, &g, drum, fast, &sums);
+    nearest2 = distance2 < nearest2 ? distance2 : nearest2;
   }
-  double volume = sums.volume, *moment = sums.moment, *area_vector = sums.area_vector, area = sums.area;
-  if (!(volume > 0.0)) return;
+  if (!(sums.volume > 0.0)) return;
 
+  /* The depth: the deepest vertex's radial distance into the drum's solid, or for the pillar R minus the
+   * distance of the particle's projection from the axis. */
+  double deepest = 0.0;
   int inside_vertices = 0;
   for (int i = 0; i < shape->num_vertices; i++) {
+    const double *v = shape->vertices + 3 * i;
+    if (cull && !(masked ? near[i] : poly_cylinder_may_reach(toward, v, above, below))) continue;
     double world[3];
-    poly_matrix_apply(rotation, shape->vertices + 3 * i, world);
+    poly_matrix_apply(rotation, v, world);
     double x = world[0] + offset[0], y = world[1] + offset[1], r = sqrt(x * x + y * y);
     double into = drum ? r - radius : radius - r;
-    if (into > 0.0) {
-      inside_vertices++;
-      if (drum && into > deepest) deepest = into;
-    }
+    inside_vertices += into > 0.0;
+    deepest = into > deepest ? into : deepest;
   }
-  if (!drum) deepest = nearest >= 0.0 && nearest < radius ? radius - nearest : 0.0;
+  double nearest = sqrt(nearest2);
+  if (!drum) deepest = nearest < radius ? radius - nearest : 0.0;
 
+  const double *area_vector = sums.area_vector;
   double horizontal = sqrt(area_vector[0] * area_vector[0] + area_vector[1] * area_vector[1]);
   if (horizontal > 0.0) {
     result->normal[0] = area_vector[0] / horizontal;
     result->normal[1] = area_vector[1] / horizontal;
   }
-  for (int k = 0; k < 3; k++) result->centroid[k] = moment[k] / volume + position[k] - offset[k];
-  result->volume = volume;
+  for (int k = 0; k < 3; k++) result->centroid[k] = sums.moment[k] / sums.volume + position[k] - offset[k];
+  result->volume = sums.volume;
   result->depth = deepest;
-  result->area = area;
+  result->area = sums.area;
   result->projected_area = horizontal;
   result->num_nodes = inside_vertices;
+}
+
+/* shape: double-precision view (body frame). rotation: body to world (row major), position: centre of mass.
+ * axis: (CX, CY); facets: of the polygon standing in for the circle (poly_cylinder_facets). On return result
+ * has volume, centroid, normal (from the particle into the wall, horizontal), depth, area and projected_area
+ * (of the particle's surface inside the wall), world frame; all zero without overlap. */
+POLY_INLINE void poly_cylinder_overlap(const poly_shape_view_d *shape, const double rotation[9],
+                                       const double position[3], const double axis[2], double radius, int facets,
+                                       poly_overlap_result *result)
+{
+  poly_cylinder_overlap_with(shape, rotation, position, axis, radius, facets, 1, result);
+}
+
+/* The straightforward computation (poly_cylinder_overlap_with, fast = 0), for the tests. */
+POLY_INLINE void poly_cylinder_overlap_reference(const poly_shape_view_d *shape, const double rotation[9],
+                                                 const double position[3], const double axis[2], double radius,
+                                                 int facets, poly_overlap_result *result)
+{
+  poly_cylinder_overlap_with(shape, rotation, position, axis, radius, facets, 0, result);
 }
 
 #endif

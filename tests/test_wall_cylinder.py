@@ -32,7 +32,8 @@ CYLINDER_SHIM = r"""
 int shim_cylinder_facets(double radius, double max_sagitta) { return poly_cylinder_facets(radius, max_sagitta); }
 double shim_cylinder_sagitta(double radius, int facets) { return poly_cylinder_sagitta(radius, facets); }
 
-/* out: volume, centroid (3), normal (3), depth, area, num_nodes, num_inconsistent, filtered_out */
+/* out: volume, centroid (3), normal (3), depth, area, num_nodes, num_inconsistent, filtered_out,
+ * projected_area */
 void shim_cylinder(const void *a, const double *pose, const double *axis, double radius, int facets, double *out)
 {
   poly_pose p;
@@ -43,6 +44,29 @@ void shim_cylinder(const void *a, const double *pose, const double *axis, double
   poly_overlap_result r;
   poly_cylinder_overlap(&((const shim_shape *)a)->view_d, rotation, p.position, axis, radius, facets, &r);
   shim_write_result(&r, out);
+  out[12] = r.projected_area;
+}
+
+/* out: whether the ends are inside the polygon (2), the crossing count, then t, facet and enter of each. */
+void shim_cylinder_crossings(double radius, int facets, const double *a, const double *d, double *out)
+{
+  poly_cylinder_polygon g = poly_cylinder_polygon_of(radius, facets);
+  int inside_a = poly_cylinder_in_polygon(&g, a[0], a[1]), inside_b = poly_cylinder_in_polygon(&g, a[0] + d[0], a[1] + d[1]);
+  double t[2];
+  int facet[2], enter[2], count = poly_cylinder_edge_crossings(&g, a, d, inside_a, inside_b, t, facet, enter);
+  out[0] = inside_a, out[1] = inside_b, out[2] = count;
+  for (int k = 0; k < count; k++) out[3 + 3 * k] = t[k], out[4 + 3 * k] = facet[k], out[5 + 3 * k] = enter[k];
+}
+
+void shim_cylinder_reference(const void *a, const double *pose, const double *axis, double radius, int facets,
+                             double *out)
+{
+  double rotation[9];
+  poly_quat_to_matrix(pose + 3, rotation);
+  poly_overlap_result r;
+  poly_cylinder_overlap_reference(&((const shim_shape *)a)->view_d, rotation, pose, axis, radius, facets, &r);
+  shim_write_result(&r, out);
+  out[12] = r.projected_area;
 }
 """
 
@@ -62,6 +86,10 @@ def cylinder_lib(tmp_path_factory):
     lib = Library(str(library))
     lib.lib.shim_cylinder.argtypes = [ctypes.c_void_p, DOUBLES, DOUBLES, ctypes.c_double, ctypes.c_int, DOUBLES]
     lib.lib.shim_cylinder.restype = None
+    lib.lib.shim_cylinder_reference.argtypes = lib.lib.shim_cylinder.argtypes
+    lib.lib.shim_cylinder_reference.restype = None
+    lib.lib.shim_cylinder_crossings.argtypes = [ctypes.c_double, ctypes.c_int, DOUBLES, DOUBLES, DOUBLES]
+    lib.lib.shim_cylinder_crossings.restype = None
     lib.lib.shim_cylinder_facets.argtypes = [ctypes.c_double, ctypes.c_double]
     lib.lib.shim_cylinder_facets.restype = ctypes.c_int
     lib.lib.shim_cylinder_sagitta.argtypes = [ctypes.c_double, ctypes.c_int]
@@ -69,12 +97,13 @@ def cylinder_lib(tmp_path_factory):
     return lib
 
 
-def cylinder(lib, shape, pose, radius, facets, axis=(0.0, 0.0)):
-    out = (ctypes.c_double * 12)()
-    lib.lib.shim_cylinder(shape.handle, (ctypes.c_double * 7)(*[float(x) for x in list(pose[0]) + list(pose[1])]),
-                          (ctypes.c_double * 2)(*axis), float(radius), int(facets), out)
+def cylinder(lib, shape, pose, radius, facets, axis=(0.0, 0.0), reference=False):
+    out = (ctypes.c_double * 13)()
+    call = lib.lib.shim_cylinder_reference if reference else lib.lib.shim_cylinder
+    call(shape.handle, (ctypes.c_double * 7)(*[float(x) for x in list(pose[0]) + list(pose[1])]),
+         (ctypes.c_double * 2)(*axis), float(radius), int(facets), out)
     return {"volume": out[0], "centroid": np.array(out[1:4]), "normal": np.array(out[4:7]), "depth": out[7],
-            "area": out[8], "filtered_out": int(out[11])}
+            "area": out[8], "nodes": int(out[9]), "filtered_out": int(out[11]), "projected_area": out[12]}
 
 
 def nearest_to_the_axis(p):
@@ -156,10 +185,10 @@ def chord_reference(world, triangles, radius, drum, samples=800):
     return volume, centroid, cap / np.linalg.norm(cap) * (1.0 if drum else -1.0), cap_area
 
 
-def pose_near_the_shell(shape, rng, radius, drum, depth_fraction):
-    """A random orientation, the centre at a random angle, pushed so that the deepest vertex reaches
+def pose_near_the_shell(shape, rng, radius, drum, depth_fraction, q=None):
+    """A random orientation (or q), the centre at a random angle, pushed so that the deepest vertex reaches
     depth_fraction of the bounding radius into the wall solid (radially)."""
-    q = random_quaternion(rng)
+    q = random_quaternion(rng) if q is None else q
     body = ref.to_world(shape.vertices, np.zeros(3), q)
     angle = rng.uniform(0, 2 * math.pi)
     direction = np.array([math.cos(angle), math.sin(angle), 0.0])
@@ -260,6 +289,126 @@ def test_error_follows_the_sagitta_bound(cylinder_lib, particles, name, drum):
         for tolerance, facets, error, bound in rows:
             assert error <= bound + 2e-5 * volume, (tolerance, error, bound)   # 2e-5: the reference's own error
         assert rows[-1][2] < 0.05 * rows[0][2]
+
+
+@pytest.mark.parametrize("facets", [8, 13, 6866, 100003])
+def test_edge_crossings_match_all_facets(cylinder_lib, facets):
+    """poly_cylinder_edge_crossings, which tries only the five facets about where a segment crosses the corner
+    circle, against all the polygon's facets (entry: the largest parameter of the lines it crosses inwards, exit:
+    the smallest outwards): segments between random points within a few facets of the boundary, segments through
+    corners and nearly tangent to the facets, R = 0.1. The same crossings, each on its facet within its span,
+    except where an end or the chord is within 1e-12 R of the boundary (rounding may go either way there)."""
+    radius, rng = 0.1, np.random.default_rng(facets)
+    step = 2 * math.pi / facets
+    h = radius * math.sqrt((step / 2) / math.tan(step / 2))
+    corner = h / math.cos(step / 2)
+    normals = np.stack([np.cos((np.arange(facets) + 0.5) * step), np.sin((np.arange(facets) + 0.5) * step)], axis=1)
+    width = 2 * corner * math.sin(step / 2)
+    checked, skipped = 0, 0
+    for n in range(3000):
+        kind = n % 3
+        if kind == 0:   # two random points within a few facet widths (at most a tenth of R) of the boundary
+            spread = min(4 * width, 0.1 * radius)
+            angle = rng.uniform(0, 2 * math.pi)
+            a = (corner + rng.uniform(-1, 1) * spread) * np.array([math.cos(angle), math.sin(angle)])
+            b = a + rng.uniform(-1, 1, 2) * 2 * spread
+        else:           # through or near a corner, along its facets' directions to within 1e-6 .. 1 rad
+            j = int(rng.integers(facets))
+            c = corner * np.array([math.cos(j * step), math.sin(j * step)])
+            along = (j + 0.5 + (0.5 if kind == 1 else -0.5)) * step + math.pi / 2 + rng.choice([-1, 1]) * 10 ** rng.uniform(-6, 0)
+            direction = np.array([math.cos(along), math.sin(along)]) * width * rng.uniform(0.1, 3)
+            offset = rng.normal(size=2) * width * 10 ** rng.uniform(-9, -1)
+            a, b = c + offset - direction * rng.uniform(0, 1), c + offset + direction * rng.uniform(0, 1)
+        d = b - a
+        out = (ctypes.c_double * 9)()
+        cylinder_lib.lib.shim_cylinder_crossings(radius, facets, (ctypes.c_double * 2)(*a), (ctypes.c_double * 2)(*d), out)
+        along_d, at_a = normals @ d, normals @ a
+        margin_a, margin_b = (normals @ a).max() - h, (normals @ b).max() - h
+        with np.errstate(divide="ignore"):
+            t = (h - at_a) / along_d
+        t_in = t[along_d < 0].max(initial=-np.inf)
+        t_out = t[along_d > 0].min(initial=np.inf)
+        expected = []
+        if t_in < t_out:
+            expected += [(t_in, 1)] if 0 < t_in < 1 else []
+            expected += [(t_out, 0)] if 0 < t_out < 1 else []
+        chord = (min(t_out, 1) - max(t_in, 0)) * np.linalg.norm(d)
+        if min(abs(margin_a), abs(margin_b)) < 1e-12 * radius or (t_in < t_out and abs(chord) < 1e-12 * radius):
+            skipped += 1
+            continue
+        checked += 1
+        assert (out[0], out[1]) == (margin_a <= 0, margin_b <= 0), (n, out[:2], margin_a, margin_b)
+        assert int(out[2]) == len(expected), (n, list(out), expected)
+        for k, (t_expected, enter) in enumerate(expected):
+            t_got, facet, got_enter = out[3 + 3 * k], int(out[4 + 3 * k]), int(out[5 + 3 * k])
+            point = a + t_got * d
+            assert got_enter == enter
+            assert abs(normals[facet] @ point - h) < 1e-12 * radius, (n, k, facet)
+            angle = math.atan2(point[1], point[0]) % (2 * math.pi)
+            offset = (angle - facet * step + math.pi) % (2 * math.pi) - math.pi
+            assert -1e-9 < offset < step + 1e-9, (n, k, facet, angle / step)
+            assert np.linalg.norm(point - (a + t_expected * d)) < 1e-11 * radius or abs(along_d[facet]) < 1e-3 * np.linalg.norm(d)
+    print(f"\n{facets} facets: {checked} segments checked, {skipped} within 1e-12 R of the boundary")
+    assert skipped < 0.01 * checked
+
+
+def tilted_quaternion(rng):
+    """The identity (the shape's faces vertical or horizontal), turned about z, then tipped by 1e-9 .. 0.1 rad
+    about a horizontal axis: triangles nearly vertical, which the fast path leaves to the clipping."""
+    turn, tip, axis = rng.uniform(0, 2 * math.pi), 10 ** rng.uniform(-9, -1), rng.uniform(0, 2 * math.pi)
+    about_z = np.array([math.cos(turn / 2), 0.0, 0.0, math.sin(turn / 2)])
+    tipped = np.array([math.cos(tip / 2), math.sin(tip / 2) * math.cos(axis), math.sin(tip / 2) * math.sin(axis), 0.0])
+    w1, v1, w2, v2 = tipped[0], tipped[1:], about_z[0], about_z[1:]
+    return np.concatenate([[w1 * w2 - v1 @ v2], w1 * v2 + w2 * v1 + np.cross(v1, v2)])
+
+
+@pytest.mark.parametrize("name,file", [("cube", "cube.stl"), ("schoenhardt", "schoenhardt.stl"),
+                                       ("tetrahedron", "tetrahedron.obj"), ("box", "box_1x2x3.off"),
+                                       ("rock_10", "rock_10.obj"), ("rock_70", "rock_70.obj"),
+                                       ("icosphere_80", "icosphere_80.off")])
+def test_fast_path_matches_the_reference(cylinder_lib, name, file):
+    """poly_cylinder_overlap (the corners of the polygon walked along each crossing triangle's piece, its moments
+    from its boundary) against poly_cylinder_overlap_reference (each crossing triangle clipped sector by sector,
+    the computation before) on 240 poses: random orientations, axis-aligned ones and ones tipped from them by
+    1e-9 .. 0.1 rad (vertical and nearly vertical triangles: the fast path's 3D variant); drum and pillar; R = 10 and 3 particle sizes and 0.6 bounding radii (triangles around
+    the axis); sagitta 1e-6 and 1e-3; the deepest vertex 1e-4 .. 0.3 or 0.5 .. 1 bounding radii into the wall
+    or 1e-3 short of it. Volume and area within 1e-9 relative, centroid 1e-9 of the particle size,
+    normal 1e-9, with a floor of 1e-14 R L sqrt(A) for the rounding of coordinates of size R (A the area in the
+    wall: a volume of 1e-12 of the particle's is the sum of terms 1e4 times larger; for the normal, 1e-14 R
+    sqrt(A) over the length of the area vector); depth and node count equal."""
+    shape = cylinder_lib.shape(os.path.join(SHAPES, file), 0.02)
+    size = shape.volume ** (1 / 3)
+    rng = np.random.default_rng(sum(map(ord, name)))
+    worst, overlaps = [0.0] * 4, 0
+    for n in range(240):
+        kind = n % 4
+        q = random_quaternion(rng) if kind < 2 else (np.array([1.0, 0, 0, 0]) if kind == 2 else tilted_quaternion(rng))
+        radius = (10 * size, 3 * size, 0.6 * shape.radius)[n // 4 % 3]
+        drum = n // 12 % 2 == 0
+        facets = cylinder_lib.lib.shim_cylinder_facets(radius, (1e-3 if n % 7 == 0 else 1e-6) * shape.radius)
+        into = 10 ** rng.uniform(-4, math.log10(0.3)) if n % 9 else (rng.uniform(0.5, 1.0) if n % 2 else -1e-3)
+        centre, q = pose_near_the_shell(shape, rng, radius, drum, into, q)
+        axis = (0.013, -0.021)
+        centre = centre + np.array([axis[0], axis[1], 0.0])
+        fast = cylinder(cylinder_lib, shape, (centre, q), radius, facets, axis)
+        reference = cylinder(cylinder_lib, shape, (centre, q), radius, facets, axis, reference=True)
+        assert fast["depth"] == pytest.approx(reference["depth"], rel=0, abs=1e-12 * size)
+        assert fast["nodes"] == reference["nodes"] and fast["filtered_out"] == reference["filtered_out"]
+        if reference["volume"] == 0.0:
+            assert fast["volume"] == 0.0 or fast["volume"] < 1e-14 * radius * size * math.sqrt(fast["area"])
+            continue
+        overlaps += 1
+        floor = 1e-14 * radius * math.sqrt(reference["area"])
+        errors = (abs(fast["volume"] - reference["volume"]) / (1e-9 * reference["volume"] + floor * size),
+                  np.abs(fast["centroid"] - reference["centroid"]).max() * reference["volume"] /
+                  (1e-9 * size * reference["volume"] + floor * size * size),
+                  np.abs(fast["normal"] - reference["normal"]).max() / (1e-9 + floor / reference["projected_area"]),
+                  abs(fast["area"] - reference["area"]) / (1e-9 * reference["area"] + floor))
+        worst = [max(w, e) for w, e in zip(worst, errors)]
+        assert max(errors) <= 1.0, (n, errors, fast, reference)
+    print(f"\n{name}: {overlaps} overlaps, worst difference / tolerance: volume {worst[0]:.2f}, "
+          f"centroid {worst[1]:.2f}, normal {worst[2]:.2f}, area {worst[3]:.2f}")
+    assert overlaps > 150
 
 
 # ---------------------------------------------------------------------------------------------

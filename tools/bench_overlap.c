@@ -12,13 +12,10 @@
  * shows the median over `repeats` repeats, in microseconds per call.
  */
 #define _POSIX_C_SOURCE 199309L
-#include <math.h>
-#include <stdint.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "bench_common.h"
 #include "poly_overlap.h"
 
 static const char *const SHAPE_FILES[] = {"schoenhardt.stl", "cube.stl",  "icosphere_80.off",
@@ -26,44 +23,10 @@ static const char *const SHAPE_FILES[] = {"schoenhardt.stl", "cube.stl",  "icosp
                                           "rock_40.obj", "rock_70.obj", "rock_1000.obj"};
 #define NUM_SHAPES (int)(sizeof SHAPE_FILES / sizeof SHAPE_FILES[0])
 
-static const double PI = 3.14159265358979323846;
-
-/* splitmix64: a fixed, portable sequence. */
-static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
-static double uniform(void)
-{
-  uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
-  return (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* Uniform random rotation (Shoemake). */
-static void random_quaternion(double q[4])
-{
-  double u1 = uniform(), u2 = 2.0 * PI * uniform(), u3 = 2.0 * PI * uniform();
-  double a = sqrt(1.0 - u1), b = sqrt(u1);
-  q[0] = a * sin(u2); q[1] = a * cos(u2); q[2] = b * sin(u3); q[3] = b * cos(u3);
-}
-
 static void random_direction(double d[3])
 {
   double z = 2.0 * uniform() - 1.0, phi = 2.0 * PI * uniform(), r = sqrt(1.0 - z * z);
   d[0] = r * cos(phi); d[1] = r * sin(phi); d[2] = z;
-}
-
-static double now(void)
-{
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int compare_doubles(const void *a, const void *b)
-{
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
 }
 
 typedef struct bench_shape {
@@ -74,6 +37,29 @@ typedef struct bench_shape {
 
 static volatile double sink;
 
+/* One pass over the pose set in one configuration. */
+typedef struct pose_set {
+  const bench_shape *shape;
+  const poly_pose *poses_a, *poses_b;
+  int num_poses, single;
+  poly_overlap_workspace_d *ws_d;
+  poly_overlap_workspace_f *ws_f;
+} pose_set;
+
+static void run_pose_set(void *context)
+{
+  const pose_set *set = (const pose_set *)context;
+  poly_overlap_result result;
+  double sum = 0.0;
+  for (int p = 0; p < set->num_poses; p++) {
+    if (set->single)
+      poly_overlap_f(&set->shape->view_f, &set->poses_a[p], &set->shape->view_f, &set->poses_b[p], set->ws_f, &result);
+    else poly_overlap_d(&set->shape->view_d, &set->poses_a[p], &set->shape->view_d, &set->poses_b[p], set->ws_d, &result);
+    sum += result.volume;
+  }
+  sink = sum;
+}
+
 /* Median over `repeats` of the time per call (microseconds) of the whole pose set. */
 static double time_configuration(const bench_shape *s, const poly_pose *poses_a, const poly_pose *poses_b,
                                  int num_poses, int single, int use_filter, poly_overlap_workspace_d *ws_d,
@@ -81,41 +67,14 @@ static double time_configuration(const bench_shape *s, const poly_pose *poses_a,
 {
   ws_d->use_filter = use_filter;
   ws_f->use_filter = use_filter;
-  poly_overlap_result result;
-  double sum = 0.0;
-  int rounds = 1;
-  double *samples = (double *)malloc(sizeof(double) * (size_t)repeats);
-  for (int r = -1; r < repeats; r++) { /* r = -1: warm-up and calibration */
-    double start = now();
-    for (int round = 0; round < rounds; round++)
-      for (int p = 0; p < num_poses; p++) {
-        if (single) poly_overlap_f(&s->view_f, &poses_a[p], &s->view_f, &poses_b[p], ws_f, &result);
-        else poly_overlap_d(&s->view_d, &poses_a[p], &s->view_d, &poses_b[p], ws_d, &result);
-        sum += result.volume;
-      }
-    double elapsed = now() - start;
-    if (r < 0) {
-      while (elapsed * rounds < 0.02) rounds *= 2;
-      continue;
-    }
-    samples[r] = 1e6 * elapsed / ((double)rounds * num_poses);
-  }
-  sink = sum;
-  qsort(samples, (size_t)repeats, sizeof(double), compare_doubles);
-  double median = repeats % 2 ? samples[repeats / 2] : 0.5 * (samples[repeats / 2 - 1] + samples[repeats / 2]);
-  free(samples);
-  return median;
+  pose_set set = {s, poses_a, poses_b, num_poses, single, ws_d, ws_f};
+  return median_time_us(run_pose_set, &set, num_poses, repeats);
 }
 
 int main(int argc, char **argv)
 {
-  if (argc < 2) {
-    fprintf(stderr, "usage: %s SHAPES_DIR [poses] [repeats]\n", argv[0]);
-    return 2;
-  }
-  int num_poses = argc > 2 ? atoi(argv[2]) : 64;
-  int repeats = argc > 3 ? atoi(argv[3]) : 5;
-  if (num_poses < 1 || repeats < 1) return 2;
+  int num_poses, repeats;
+  if (read_arguments(argc, argv, &num_poses, &repeats)) return 2;
 
   bench_shape shapes[NUM_SHAPES];
   int max_vertices = 0, max_triangles = 0;

@@ -1,0 +1,29 @@
+#!/bin/bash
+# Builds and runs one of the CPU benchmarks (tools/bench_overlap.sh, tools/bench_cylinder.sh,
+# tools/bench_mesh_pieces.sh):
+#
+#   bash tools/bench_c.sh NAME [args...]
+#
+# Compiles tools/NAME.c and the C core with the package's C flags (-std=c11 -O2, no -march) into a temporary
+# directory, prints the machine, the compiler and the commit (marked "(modified)" when a file it compiles,
+# headers included, has uncommitted changes), then runs it on examples/shapes with the arguments.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+name="$1"
+shift
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+
+sources=("$root/tools/$name.c" "$root/src/poly_overlap.c" "$root/src/poly_shape.c" "$root/src/poly_mesh_read.c"
+  "$root/src/poly_convex.c" "$root/src/poly_mesh_shell.c")
+gcc -std=c11 -O2 -Wall -Wextra -I"$root/src" "${sources[@]}" -lm -o "$work/$name"
+
+echo "machine: $(nproc) CPUs; $(lscpu | sed -n 's/^Model name:[[:space:]]*//p')"
+echo "compiler: $(gcc --version | head -1), -std=c11 -O2"
+commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+files="$(gcc -std=c11 -MM -I"$root/src" "${sources[@]}" | tr -d '\\' | tr ' ' '\n' | grep "^$root/" | sort -u)"
+# shellcheck disable=SC2086
+if [ -n "$(git -C "$root" status --porcelain -- $files 2>/dev/null)" ]; then commit="$commit (modified)"; fi
+echo "commit: $commit"
+echo
+"$work/$name" "$root/examples/shapes" "$@"
