@@ -102,6 +102,8 @@ typedef struct poly_overlap_result {
     REAL *sides;                       /* convex path: per vertex used, its plane_side for each face */ \
     int *faces_a, *faces_b, *face_column_a, *face_column_b; /* its faces, and their columns per face */ \
     int *row_of_a, *row_of_b;          /* per vertex: its row of the side table, -1 before it is made */ \
+    int capacity_grid;                 /* entries of the grid of kept triangles (find_crossings) */    \
+    int *grid_start, *grid_entries, *grid_stamps, *grid_candidates; /* cells; their triangles; per triangle */ \
     REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
     REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \
     REAL *normals_b;                   /* B's unit normals in the local frame */                   \

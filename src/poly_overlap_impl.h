@@ -140,7 +140,11 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   size_t nrows = POLY_OVERLAP_RECORDS ? nv : 0;
   size_t reals = 3 * nv + 3 * nv + 4 * nt + 4 * nt + 3 * nt + 6 * nt + 6 * nt + 3 * nt + 3 * nt + 2 * nt + 3 * np +
                  2 * nr + nsides;
-  size_t ints = 2 * nt + 2 * nr + 3 * nruns + nbuckets + 4 * nr + 4 * nfaces + 2 * nrows;
+  /* The grid of kept triangles: its cells' starts, its entries (a triangle in a few cells), and per
+   * triangle a stamp and a slot for the candidates of an edge. */
+  size_t ncells = POLY_OVERLAP_RECORDS ? 16 * 16 * 16 + 1 : 0, nentries = POLY_OVERLAP_RECORDS ? 8 * nt + 64 : 0;
+  size_t ngrid = POLY_OVERLAP_RECORDS ? nt : 0;
+  size_t ints = 2 * nt + 2 * nr + 3 * nruns + nbuckets + 4 * nr + 4 * nfaces + 2 * nrows + ncells + nentries + 2 * ngrid;
   size_t bytes = sizeof(R) * reals + sizeof(int) * ints + 2 * nt + 2 * nv;
   if (!ws || !memory) return bytes;
   R *r = (R *)memory;
@@ -172,6 +176,10 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->face_column_b = n; n += nfaces;
   ws->row_of_a = n; n += nrows;
   ws->row_of_b = n; n += nrows;
+  ws->grid_start = n; n += ncells;
+  ws->grid_entries = n; n += nentries;
+  ws->grid_stamps = n; n += ngrid;
+  ws->grid_candidates = n; n += ngrid;
   unsigned char *c = (unsigned char *)n;
   ws->kept_a = c; c += nt;
   ws->kept_b = c; c += nt;
@@ -187,6 +195,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->capacity_sides = (int)nsides;
   ws->convex_fallbacks = 0;
   ws->use_convex = POLY_OVERLAP_RECORDS;
+  ws->capacity_grid = (int)nentries;
   ws->use_filter = 1;
   ws->want_second_moment = 0;
   return bytes;

@@ -20,6 +20,109 @@
  * the same bits (tests/test_records_path.py). Where the records do not fit the
  * workspace, the pass takes the reference path. */
 
+/* A uniform grid over the boxes of the other body's kept triangles, so that an
+ * edge meets only the triangles of the cells its box touches rather than all
+ * of them: for large shapes these pairs were most of the cost (rock_1000:
+ * 62 %). At most POLY_GRID_SIDE cells a side, about one triangle a cell; each
+ * triangle is listed in every cell its box touches. The cell of a coordinate
+ * is monotonic in it, so an edge whose box overlaps a triangle's always shares
+ * a cell with it. */
+#define POLY_GRID_SIDE 16
+#define POLY_GRID_MIN_KEPT 64 /* fewer kept triangles: the plain loop is cheaper (rock_70) */
+typedef struct POLY_FN(grid) {
+  R low[3], scale[3];
+  int side;
+} POLY_FN(grid);
+
+POLY_INLINE int POLY_FN(grid_cell)(const POLY_FN(grid) *g, int k, R x)
+{
+  R position = (x - g->low[k]) * g->scale[k];
+  if (!(position > 0)) return 0;
+  return position >= (R)(g->side - 1) ? g->side - 1 : (int)position;
+}
+
+POLY_INLINE void POLY_FN(grid_range)(const POLY_FN(grid) *g, const R *low, const R *high, int from[3], int to[3])
+{
+  for (int k = 0; k < 3; k++) {
+    from[k] = POLY_FN(grid_cell)(g, k, low[k]);
+    to[k] = POLY_FN(grid_cell)(g, k, high[k]);
+  }
+}
+
+/* Builds the grid of `kept_list`'s triangles (cell c lists ws->grid_entries
+ * [grid_start[c], grid_start[c + 1])) and clears their stamps; 0, or -1 when
+ * it does not fit the workspace. */
+POLY_INLINE int POLY_FN(grid_build)(POLY_FN(overlap_workspace) *ws, const R *bounds, const int *kept_list, int num_kept,
+                                    POLY_FN(grid) *g)
+{
+  R high[3];
+  for (int k = 0; k < 3; k++) {
+    g->low[k] = (R)1e30;
+    high[k] = (R)-1e30;
+  }
+  for (int n = 0; n < num_kept; n++) {
+    const R *box = bounds + 6 * kept_list[n];
+    ws->grid_stamps[kept_list[n]] = -1;
+    for (int k = 0; k < 3; k++) {
+      if (box[k] < g->low[k]) g->low[k] = box[k];
+      if (box[3 + k] > high[k]) high[k] = box[3 + k];
+    }
+  }
+  int side = 1;
+  while (side * side * side < num_kept && side < POLY_GRID_SIDE) side++;
+  g->side = side;
+  for (int k = 0; k < 3; k++) g->scale[k] = high[k] > g->low[k] ? (R)side / (high[k] - g->low[k]) : (R)0;
+  int cells = side * side * side, *start = ws->grid_start, *entries = ws->grid_entries;
+  for (int c = 0; c <= cells; c++) start[c] = 0;
+  for (int pass = 0; pass < 2; pass++) {
+    for (int n = 0; n < num_kept; n++) {
+      int t = kept_list[n], from[3], to[3];
+      POLY_FN(grid_range)(g, bounds + 6 * t, bounds + 6 * t + 3, from, to);
+      for (int i = from[0]; i <= to[0]; i++)
+        for (int j = from[1]; j <= to[1]; j++)
+          for (int l = from[2]; l <= to[2]; l++) {
+            int c = (i * side + j) * side + l;
+            if (pass == 0) start[c + 1]++;
+            else entries[start[c]++] = t;
+          }
+    }
+    if (pass == 0) {
+      for (int c = 0; c < cells; c++) start[c + 1] += start[c];
+      if (start[cells] > ws->capacity_grid) return -1;
+    }
+  }
+  /* The fill moved each cell's start to its end: shift back. */
+  for (int c = cells; c > 0; c--) start[c] = start[c - 1];
+  start[0] = 0;
+  return 0;
+}
+
+/* The kept triangles whose cells the box [low, high] touches, once each and in
+ * ascending order (the plain loop's), into ws->grid_candidates; returns how many. */
+POLY_INLINE int POLY_FN(grid_candidates)(const POLY_FN(grid) *g, POLY_FN(overlap_workspace) *ws, const R *low,
+                                         const R *high, int stamp)
+{
+  int from[3], to[3], count = 0, side = g->side, *found = ws->grid_candidates;
+  POLY_FN(grid_range)(g, low, high, from, to);
+  for (int i = from[0]; i <= to[0]; i++)
+    for (int j = from[1]; j <= to[1]; j++)
+      for (int l = from[2]; l <= to[2]; l++) {
+        int c = (i * side + j) * side + l;
+        for (int m = ws->grid_start[c]; m < ws->grid_start[c + 1]; m++) {
+          int t = ws->grid_entries[m];
+          if (ws->grid_stamps[t] == stamp) continue;
+          ws->grid_stamps[t] = stamp;
+          int slot = count++;
+          while (slot > 0 && found[slot - 1] > t) {
+            found[slot] = found[slot - 1];
+            slot--;
+          }
+          found[slot] = t;
+        }
+      }
+  return count;
+}
+
 /* Records of the edges of `mine` in the slab crossing kept triangles of
  * `other`, sorted along each edge: one run (edge, first record, count) per edge
  * tested, appended to `runs`. Flush faces (a face of A and one of B in one
@@ -34,6 +137,9 @@ POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R
                                         R slab_limit, R tolerance, POLY_FN(overlap_workspace) *ws,
                                         int *num_records, int *runs, int *num_runs, int *flush)
 {
+  POLY_FN(grid) grid;
+  int gridded = other_num_kept >= POLY_GRID_MIN_KEPT &&
+                POLY_FN(grid_build)(ws, other_bounds, other_kept_list, other_num_kept, &grid) == 0;
   for (int e = 0; e < mine->num_edges; e++) {
     int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
     const R *p0 = my_vertices + 3 * v0, *p1 = my_vertices + 3 * v1;
@@ -43,8 +149,14 @@ POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R
     int first = *num_records, count = 0;
     R low[3], high[3];
     POLY_FN(segment_bounds)(p0, p1, low, high);
-    for (int n = 0; n < other_num_kept; n++) {
-      int t = other_kept_list[n];
+    const int *candidates = other_kept_list;
+    int num_candidates = other_num_kept;
+    if (gridded) {
+      num_candidates = POLY_FN(grid_candidates)(&grid, ws, low, high, e);
+      candidates = ws->grid_candidates;
+    }
+    for (int n = 0; n < num_candidates; n++) {
+      int t = candidates[n];
       if (!POLY_FN(boxes_overlap)(low, high, other_bounds + 6 * t)) continue;
       const int *tri = other->triangles + 3 * t;
       const R *plane = other_planes + 4 * t;
