@@ -535,7 +535,10 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   double axis_d[3], extent_a, extent_b;
   int separated = POLY_FN(overlap_slab)(a, b, rotation, translation, axis_d, &extent_a, &extent_b);
   for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
-  if (!separated && use_filter && ws->use_records && ws->use_convex && a->face_of && b->face_of)
+  /* Convex shapes of few faces (blocks): a face plane may separate them. With many faces the test costs more
+   * than the narrow phase it would spare (an icosphere of 320 triangles: 1.5x slower). */
+  if (!separated && use_filter && ws->use_records && ws->use_convex && a->face_of && b->face_of &&
+      a->num_triangles + b->num_triangles <= 64)
     separated = POLY_FN(convex_separated)(a, b, rotation, translation);
   if (separated && use_filter) {
     out->filtered_out = 1;
