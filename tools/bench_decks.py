@@ -25,9 +25,13 @@ Called by tools/bench_vs_multisphere.sh and tools/bench_tutorial_decks.sh:
       hopper: examples/hopper/run.py (300 rock_40 of 2 cm against Hertz spheres of their volume; fill 4500
         steps, discharge 6000), one run after the other (--quick: fill 0.1 s, discharge 0.05 s).
 
-Runs in --workdir (default examples/bench_multisphere/post), Debian's `liggghts` for the spheres and
-build/bin/liggghts-poly (make -j2 all) for the polyhedra. Prints the machine, the LIGGGHTS version, the commit
-and whether the package sources differ from it or are newer than the build.
+LIGGGHTS' own decks take a second or ten, so their loop times scatter most on a shared machine: they run
+--repeat times (3; --quick 1) and each stage counts with the median (the table gives min-max); the polyhedral
+decks run once. Runs in --workdir (default examples/bench_multisphere/post), Debian's `liggghts` for the
+references and build/bin/liggghts-poly (make -j2 all) for the polyhedra. Prints the machine, the LIGGGHTS
+version, the commit and whether the package sources differ from it or are newer than the build; at the end
+the wall and CPU seconds of all runs (the loop times are wall times: a CPU share well below 100 % means the
+machine was busy).
 """
 import argparse
 import os
@@ -157,6 +161,23 @@ def column(run, name):
     return [row[k] for row in run["rows"]]
 
 
+def median_runs(repeats):
+    """The runs of the first of several identical runs of a deck, each with the median of its loop times
+    ('loop') and all of them ('loops')."""
+    merged = []
+    for k, run in enumerate(repeats[0]):
+        loops = sorted(r[k]["loop"] for r in repeats)
+        merged.append(dict(run, loop=loops[len(loops) // 2] if len(loops) % 2 else
+                           (loops[len(loops) // 2 - 1] + loops[len(loops) // 2]) / 2, loops=loops))
+    return merged
+
+
+def spread(run):
+    """' (min-max)' of a run's repeated loop times, '' for one."""
+    loops = run.get("loops", [])
+    return f" ({loops[0]:.3g}-{loops[-1]:.3g})" if len(loops) > 1 else ""
+
+
 def particle_steps(run, per_particle=1):
     """Particles x steps of one run from its thermo rows: each interval between outputs counted with the
     particles at its end (insertion happens on the first step of an interval)."""
@@ -206,7 +227,8 @@ def pile_result(runs, per_particle, quick):
     peak = max(ke)
     result = {"particles": particles, "lost": PILE["N"] - particles, "peak": peak,
               "ke_start": column(timed, "ke")[0] / peak, "ke_end": ke[-1] / peak,
-              "zmax": last["zmax"], "inside": inside, "loop": timed["loop"], "steps": timed["steps"],
+              "zmax": last["zmax"], "inside": inside, "loop": timed["loop"], "spread": spread(timed),
+              "steps": timed["steps"],
               "per": timed["loop"] / (particles * timed["steps"])}
     problems = []
     if result["lost"]:
@@ -239,14 +261,20 @@ def bench_multisphere(a, workdir):
         common = [("N", PILE["N"]), ("settle", settle), ("steps", steps)]
         poly_runs, poly_wall, poly_cpu = run_liggghts(POLY, EXAMPLE / "in.pile_poly", workdir, f"log.{name}_poly",
                                             common + [("SHAPE", case["mesh"]), ("SCALE", PILE["scale"])])
-        ms_runs, ms_wall, ms_cpu = run_liggghts(STOCK, EXAMPLE / "in.pile_multisphere", workdir,
-                                                f"log.{name}_multisphere", common + variables)
+        repeats, ms_wall, ms_cpu = [], 0.0, 0.0
+        for k in range(a.repeat):
+            runs, wall, cpu = run_liggghts(STOCK, EXAMPLE / "in.pile_multisphere", workdir,
+                                           f"log.{name}_multisphere" + (f".{k + 1}" if k else ""), common + variables)
+            repeats.append(runs)
+            ms_wall, ms_cpu = ms_wall + wall, ms_cpu + cpu
+        ms_runs = median_runs(repeats)
         results = [("polyhedral, " + case["mesh"].name, pile_result(poly_runs, 1, a.quick), poly_wall, poly_cpu),
                    (f"multisphere, {nspheres} spheres ({covered:.1%} of the volume)",
                     pile_result(ms_runs, nspheres, a.quick), ms_wall, ms_cpu)]
         for model, r, wall, cpu in results:
             rows.append(f"| {name} | {model} | {r['particles']} ({r['lost']}) | {r['peak']:.3g} | "
-                        f"{r['ke_start']:.1e} / {r['ke_end']:.1e} | {r['zmax'] * 1000:.1f} | {r['loop']:.2f} "
+                        f"{r['ke_start']:.1e} / {r['ke_end']:.1e} | {r['zmax'] * 1000:.1f} | "
+                        f"{r['loop']:.2f}{r['spread']} "
                         f"(whole run: {wall:.0f} wall, {cpu:.0f} CPU) | {us(r['per'])} | {r['formed']} |")
         ratios.append((name, results[0][1]["per"] / results[1][1]["per"]))
         print(f"{name}: polyhedral {us(results[0][1]['per'])} us, multisphere {us(results[1][1]['per'])} us per "
@@ -350,7 +378,7 @@ def stage_table(deck, names, rocks, spheres, extra=None, target=None):
         cells = [names[k] if k < len(names) else str(k + 1), str(r["steps"]), f"{r['atoms']} / {s['atoms']}"]
         if extra:
             cells.append(f"{extra[1](r)} / {extra[1](s)}")
-        cells += [f"{run['loop']:.2f}, {us(t) if t else '-'}" for run, t in zip(pair, per)]
+        cells += [f"{run['loop']:.2f}{spread(run)}, {us(t) if t else '-'}" for run, t in zip(pair, per)]
         cells += [ratio, f"{r.get('pair', 0):.0f} / {s.get('pair', 0):.0f}, "
                          f"{r.get('neighs', 0):.1f} / {s.get('neighs', 0):.1f}"]
         print("| " + " | ".join(cells) + " |")
@@ -381,10 +409,15 @@ def bench_moving_mesh(a, workdir):
           "the conversion)")
     sys.stdout.flush()
     runs = {}
-    for name, executable in (("rocks", POLY), ("spheres", STOCK)):
-        runs[name], wall, cpu = run_liggghts(executable, here / f"in.{name}", here, f"log.{name}")
-        print(f"  {name}: {wall:.0f} s wall, {cpu:.0f} s CPU")
-        sys.stdout.flush()
+    for name, executable, count in (("rocks", POLY, 1), ("spheres", STOCK, a.repeat)):
+        repeats = []
+        for k in range(count):
+            log = f"log.{name}" + (f".{k + 1}" if k else "")
+            logs, wall, cpu = run_liggghts(executable, here / f"in.{name}", here, log)
+            repeats.append(logs)
+            print(f"  {name}: {wall:.0f} s wall, {cpu:.0f} s CPU")
+            sys.stdout.flush()
+        runs[name] = median_runs(repeats)
     print()
     counts = runs["rocks"][-1]["atoms"], runs["spheres"][-1]["atoms"]
     if counts[0] != counts[1]:
@@ -405,14 +438,18 @@ def bench_hopper(a, workdir):
     print(f"hopper (examples/hopper/run.py{' --settle 0.1 --discharge 0.05' if a.quick else ''}; output in {out}): "
           "300 rock_40 of 2 cm against Hertz spheres of their volume, one run after the other")
     sys.stdout.flush()
-    for skip, name in (("spheres", "rock"), ("rock", "spheres")):
-        result, wall, cpu = timed(command + ["--skip", skip], capture_output=True, text=True)
-        if result.returncode != 0:
-            raise SystemExit(f"{' '.join(command)} failed:\n{(result.stdout + result.stderr)[-3000:]}")
-        print(f"  {name}: {wall:.0f} s wall, {cpu:.0f} s CPU")
+    runs = {}
+    for skip, name, count in (("spheres", "rock", 1), ("rock", "spheres", a.repeat)):
+        repeats = []
+        for _ in range(count):
+            result, wall, cpu = timed(command + ["--skip", skip], capture_output=True, text=True)
+            if result.returncode != 0:
+                raise SystemExit(f"{' '.join(command)} failed:\n{(result.stdout + result.stderr)[-3000:]}")
+            print(f"  {name}: {wall:.0f} s wall, {cpu:.0f} s CPU")
+            repeats.append(parse_log((out / f"log.hopper_{name}").read_text(errors="replace")))
+        runs[name] = median_runs(repeats)
     print()
-    rocks, spheres = (parse_log((out / f"log.hopper_{name}").read_text(errors="replace"))
-                      for name in ("rock", "spheres"))
+    rocks, spheres = runs["rock"], runs["spheres"]
     stage_table("hopper", ["fill", "discharge"], rocks, spheres,
                 extra=("discharged at its end", lambda run: f"{column(run, 'ndis')[-1]:.0f}"), target=10)
     print()
@@ -424,6 +461,8 @@ def main():
     common.add_argument("--workdir", default=str(EXAMPLE / "post"),
                         help="where the runs go (examples/bench_multisphere/post)")
     common.add_argument("--quick", action="store_true", help="short runs: a smoke check")
+    common.add_argument("--repeat", type=int, default=None,
+                        help="runs of each LIGGGHTS reference deck, their loop times the median (3; --quick 1)")
     sub = p.add_subparsers(dest="command", required=True)
     ms = sub.add_parser("multisphere", parents=[common],
                         help="piles of cubes and rocks against LIGGGHTS multisphere particles")
@@ -434,6 +473,8 @@ def main():
     tu.add_argument("--all", action="store_true", help="movingMeshGran: the whole deck (70000 steps)")
     tu.add_argument("decks", nargs="*", help="movingMeshGran, hopper (default both)")
     a = p.parse_args()
+    if a.repeat is None:
+        a.repeat = 1 if a.quick else 3
     workdir = pathlib.Path(a.workdir).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
     print_header()

@@ -9,7 +9,8 @@
 # steps (default 12000, about 6 min here; --all the whole 70000, about an hour). hopper: examples/hopper/run.py
 # (300 rocks against 300 spheres, fill and discharge; about 1.5 min). Per stage and in all: LIGGGHTS' Loop time
 # / (particles x steps) for rocks and spheres and their ratio (targets: movingMeshGran at most 5, hopper at
-# most 10). --quick: 2000 steps of movingMeshGran and a 0.15 s hopper, about 20 s.
+# most 10); the sphere decks run 3 times (--repeat N), their median counts. --quick: 2000 steps of
+# movingMeshGran and a 0.15 s hopper, about 20 s.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 exec /usr/bin/python3 "$root/tools/bench_decks.py" tutorial "$@"
