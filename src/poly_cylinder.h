@@ -570,19 +570,25 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const poly_cylin
     if (corners > facets / 2) corners = 0; /* both ends at one corner, each rounded to another side of it */
     double turn = forward ? g->sin_step : -g->sin_step, u[3] = {out->x[0], out->x[1], out->x[2]};
     double angle = (forward ? out->facet + 1 : out->facet) * g->step, dir[2] = {cos(angle), sin(angle)};
-    for (int q = 0; q <= corners; q++) {
-      double w[3] = {in->x[0], in->x[1], in->x[2]};
-      if (q < corners && steep) poly_cylinder_lift(p, dir, g->corner_radius, w);
-      if (q < corners && !steep) w[0] = g->corner_radius * dir[0], w[1] = g->corner_radius * dir[1];
-      if (steep) poly_cylinder_add_triangle(o, u, w, &piece_arcs);
-      else poly_cylinder_moments_add(&arcs, u[0] - o[0], u[1] - o[1], w[0] - o[0], w[1] - o[1]);
-      for (int n = 0; n < 3; n++) u[n] = w[n];
+    for (int q = 0; q < corners; q++) {
+      if (steep) {
+        double w[3];
+        poly_cylinder_lift(p, dir, g->corner_radius, w);
+        poly_cylinder_add_triangle(o, u, w, &piece_arcs);
+        for (int n = 0; n < 3; n++) u[n] = w[n];
+      } else {
+        double wx = g->corner_radius * dir[0], wy = g->corner_radius * dir[1];
+        poly_cylinder_moments_add(&arcs, u[0] - o[0], u[1] - o[1], wx - o[0], wy - o[1]);
+        u[0] = wx, u[1] = wy;
+      }
       double rotated = dir[0] * g->cos_step - dir[1] * turn;
       dir[1] = dir[1] * g->cos_step + dir[0] * turn;
       dir[0] = rotated;
       double renorm = 1.5 - 0.5 * (dir[0] * dir[0] + dir[1] * dir[1]);
       dir[0] *= renorm, dir[1] *= renorm;
     }
+    if (steep) poly_cylinder_add_triangle(o, u, in->x, &piece_arcs);
+    else poly_cylinder_moments_add(&arcs, u[0] - o[0], u[1] - o[1], in->x[0] - o[0], in->x[1] - o[1]);
   }
   const double sign = drum ? -1.0 : 1.0;
   if (steep) { /* the piece's area: the length of its area vector (it is planar) */
@@ -701,10 +707,11 @@ POLY_INLINE void poly_cylinder_overlap_with(const poly_shape_view_d *shape, cons
   double nearest2 = INFINITY;
   for (int t = 0; t < shape->num_triangles; t++) {
     const int *tri = shape->triangles + 3 * t;
-    int reach_in = !cull;
-    for (int c = 0; c < 3 && !reach_in; c++)
-      reach_in = masked ? near[tri[c]] : poly_cylinder_may_reach(toward, shape->vertices + 3 * tri[c], above, below);
-    if (!reach_in) continue;
+    if (masked && !(near[tri[0]] | near[tri[1]] | near[tri[2]])) continue;
+    if (cull && !masked && !poly_cylinder_may_reach(toward, shape->vertices + 3 * tri[0], above, below) &&
+        !poly_cylinder_may_reach(toward, shape->vertices + 3 * tri[1], above, below) &&
+        !poly_cylinder_may_reach(toward, shape->vertices + 3 * tri[2], above, below))
+      continue;
     double p[3][3];
     for (int c = 0; c < 3; c++) {
       double world[3];
