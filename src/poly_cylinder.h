@@ -41,7 +41,7 @@
  * of each sector its part spans, a sector at a time, with sines and cosines for each sector, after angular
  * ranges from several atan2 per triangle. At the default sagitta (1e-6 of the particle's bounding radius) in
  * a drum of 10 particle diameters, N is 6000 to 8000 and a contact of 0.1-3 % of the particle's volume
- * spans 100 to 250 sector pieces: 8 to 75 us per contact on one core (tools/bench_cylinder.sh,
+ * spans 100 to 250 sector pieces: 8 to 69 us per contact on one core (tools/bench_cylinder.sh,
  * doc/benchmarks.md); now 1.3 to 16 us, with the same approximant and the same results to rounding. That
  * computation is kept as poly_cylinder_overlap_reference, which tests/test_wall_cylinder.py compares with
  * poly_cylinder_overlap on random poses; it still does the triangles whose projection reaches the axis

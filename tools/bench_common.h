@@ -68,8 +68,9 @@ static double median_time_us(void (*run)(void *context), void *context, int item
   return median;
 }
 
-/* The arguments SHAPES_DIR [poses] [repeats] (defaults 64 and 5); 0 when they are usable. */
-static int read_arguments(int argc, char **argv, int *poses, int *repeats)
+/* The arguments SHAPES_DIR [poses] [repeats] (defaults 64 and 5, repeats at least least_repeats); 0 when they
+ * are usable. */
+static int read_arguments(int argc, char **argv, int *poses, int *repeats, int least_repeats)
 {
   if (argc < 2) {
     fprintf(stderr, "usage: %s SHAPES_DIR [poses] [repeats]\n", argv[0]);
@@ -77,7 +78,7 @@ static int read_arguments(int argc, char **argv, int *poses, int *repeats)
   }
   *poses = argc > 2 ? atoi(argv[2]) : 64;
   *repeats = argc > 3 ? atoi(argv[3]) : 5;
-  return *poses < 1 || *repeats < 1 ? 2 : 0;
+  return *poses < 1 || *repeats < least_repeats ? 2 : 0;
 }
 
 #endif

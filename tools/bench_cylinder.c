@@ -2,7 +2,13 @@
  * contact.
  *
  *   bash tools/bench_cylinder.sh [poses] [repeats]      (builds this file and runs it)
- *   bench_cylinder SHAPES_DIR [poses] [repeats]
+ *   bench_cylinder SHAPES_DIR [poses] [repeats] [shape]
+ *
+ * With a shape (a file name of examples/shapes without its extension), only that one, its poses drawn first.
+ * With 0 repeats, one untimed pass over each side's poses: the instructions per call, the same on every run,
+ * are then those counted by
+ *   valgrind --tool=callgrind --toggle-collect=run_contacts bench_cylinder examples/shapes 32 0 cube
+ * divided by 64 (2 sides of 32 poses).
  *
  * For each shape (at scale 1; d its volume-equivalent diameter), `poses` contacts with a zcylinder of
  * radius R = 10 d about the z axis, as fix wall/polyhedral computes them: the polygon's facet count from the
@@ -37,7 +43,7 @@ typedef struct contact {
 
 static volatile double sink;
 
-/* One pass over the contacts of one shape and side. */
+/* One pass over the contacts of one shape and side (kept out of line for callgrind's --toggle-collect). */
 typedef struct contact_set {
   const poly_shape_view_d *view;
   const contact *contacts;
@@ -45,7 +51,7 @@ typedef struct contact_set {
   double radius;
 } contact_set;
 
-static void run_contacts(void *context)
+__attribute__((noinline)) static void run_contacts(void *context)
 {
   static const double axis[2] = {0.0, 0.0};
   const contact_set *set = (const contact_set *)context;
@@ -93,7 +99,7 @@ static double make_contacts(const poly_shape_view_d *view, double particle_volum
 int main(int argc, char **argv)
 {
   int num_poses, repeats;
-  if (read_arguments(argc, argv, &num_poses, &repeats)) return 2;
+  if (read_arguments(argc, argv, &num_poses, &repeats, 0)) return 2;
 
   contact *contacts = (contact *)malloc(sizeof(contact) * (size_t)num_poses);
   printf("poly_cylinder_overlap per contact, zcylinder R = %g d (d: volume-equivalent diameter), sagitta %g of "
@@ -103,7 +109,11 @@ int main(int argc, char **argv)
          "pillar: mean V/V_p | pillar, fastest (us) | pillar, median (us) | sum V/V_p drum, pillar |\n");
   printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   double total_start = now();
+  const char *only = argc > 4 ? argv[4] : NULL;
   for (int i = 0; i < NUM_SHAPES; i++) {
+    const char *name = strrchr(SHAPE_FILES[i], '.');
+    if (only && (strlen(only) != (size_t)(name - SHAPE_FILES[i]) || strncmp(only, SHAPE_FILES[i], strlen(only))))
+      continue;
     char path[4096], message[512];
     poly_shape shape;
     snprintf(path, sizeof path, "%s/%s", argv[1], SHAPE_FILES[i]);
@@ -118,9 +128,10 @@ int main(int argc, char **argv)
     for (int drum = 1; drum >= 0; drum--) {
       sum[!drum] = make_contacts(&view, shape.volume, radius, facets, drum, contacts, num_poses) / shape.volume;
       contact_set set = {&view, contacts, num_poses, facets, radius};
-      median[!drum] = median_time_us(run_contacts, &set, num_poses, repeats, &fastest[!drum]);
+      median[!drum] = fastest[!drum] = 0.0;
+      if (repeats == 0) run_contacts(&set);
+      else median[!drum] = median_time_us(run_contacts, &set, num_poses, repeats, &fastest[!drum]);
     }
-    const char *name = strrchr(SHAPE_FILES[i], '.');
     printf("| %.*s | %d | %d | %.2f %% | %.2f | %.2f | %.2f %% | %.2f | %.2f | %.12f, %.12f |\n",
            (int)(name - SHAPE_FILES[i]), SHAPE_FILES[i], shape.num_triangles, facets, 100.0 * sum[0] / num_poses,
            fastest[0], median[0], 100.0 * sum[1] / num_poses, fastest[1], median[1], sum[0], sum[1]);

@@ -74,7 +74,7 @@ static double time_configuration(const bench_shape *s, const poly_pose *poses_a,
 int main(int argc, char **argv)
 {
   int num_poses, repeats;
-  if (read_arguments(argc, argv, &num_poses, &repeats)) return 2;
+  if (read_arguments(argc, argv, &num_poses, &repeats, 1)) return 2;
 
   bench_shape shapes[NUM_SHAPES];
   int max_vertices = 0, max_triangles = 0;
