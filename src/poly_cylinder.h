@@ -498,7 +498,7 @@ POLY_INLINE void poly_cylinder_lift(const double (*p)[3], const double dir[2], d
 
 /* The fast path: triangle p's part in the polygon's solid (drum: outside the polygon; else inside it),
  * added to the sums, as poly_cylinder_sector_pieces over all sectors would add it. For triangles whose
- * projection is clear of the axis (so that each arc spans less than half the polygon). The polygon is convex,
+ * projection is clear of the axis (so that each arc spans less than half a turn). The polygon is convex,
  * so along each edge of the triangle's projection the part inside it is one interval; its ends are found on
  * the facets about where the edge crosses the corner circle. The boundary of (projection n polygon) runs along
  * the triangle's edges inside the polygon and, from each point where the triangle's boundary leaves the
@@ -567,7 +567,9 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const poly_cylin
     if (crossing[k].enter) continue;
     const poly_cylinder_crossing *out = &crossing[k], *in = &crossing[(k + 1) % count];
     int corners = ((forward ? in->facet - out->facet : out->facet - in->facet) % facets + facets) % facets;
-    if (corners > facets / 2) corners = 0; /* both ends at one corner, each rounded to another side of it */
+    /* An arc within a projection clear of the axis spans less than half a turn, at most facets / 2 + 1
+     * corners; a count near `facets` is both ends at one corner, each rounded to another side of it. */
+    if (corners > facets / 2 + 1) corners = 0;
     double turn = forward ? g->sin_step : -g->sin_step, u[3] = {out->x[0], out->x[1], out->x[2]};
     double angle = (forward ? out->facet + 1 : out->facet) * g->step, dir[2] = {cos(angle), sin(angle)};
     for (int q = 0; q < corners; q++) {
