@@ -41,7 +41,7 @@
  * of each sector its part spans, a sector at a time, with sines and cosines for each sector, after angular
  * ranges from several atan2 per triangle. At the default sagitta (1e-6 of the particle's bounding radius) in
  * a drum of 10 particle diameters, N is 6000 to 8000 and a contact of 0.1-3 % of the particle's volume
- * spans 100 to 250 sector pieces: 8 to 75 us per contact on one core (tools/bench_cylinder.sh,
+ * spans 100 to 250 sector pieces: 8 to 69 us per contact on one core (tools/bench_cylinder.sh,
  * doc/benchmarks.md); now 1.3 to 16 us, with the same approximant and the same results to rounding. That
  * computation is kept as poly_cylinder_overlap_reference, which tests/test_wall_cylinder.py compares with
  * poly_cylinder_overlap on random poses; it still does the triangles whose projection reaches the axis
@@ -498,7 +498,7 @@ POLY_INLINE void poly_cylinder_lift(const double (*p)[3], const double dir[2], d
 
 /* The fast path: triangle p's part in the polygon's solid (drum: outside the polygon; else inside it),
  * added to the sums, as poly_cylinder_sector_pieces over all sectors would add it. For triangles whose
- * projection is clear of the axis (so that each arc spans less than half the polygon). The polygon is convex,
+ * projection is clear of the axis (so that each arc spans less than half a turn). The polygon is convex,
  * so along each edge of the triangle's projection the part inside it is one interval; its ends are found on
  * the facets about where the edge crosses the corner circle. The boundary of (projection n polygon) runs along
  * the triangle's edges inside the polygon and, from each point where the triangle's boundary leaves the
@@ -567,22 +567,30 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const poly_cylin
     if (crossing[k].enter) continue;
     const poly_cylinder_crossing *out = &crossing[k], *in = &crossing[(k + 1) % count];
     int corners = ((forward ? in->facet - out->facet : out->facet - in->facet) % facets + facets) % facets;
-    if (corners > facets / 2) corners = 0; /* both ends at one corner, each rounded to another side of it */
+    /* An arc within a projection clear of the axis spans less than half a turn, at most facets / 2 + 1
+     * corners; a count near `facets` is both ends at one corner, each rounded to another side of it. */
+    if (corners > facets / 2 + 1) corners = 0;
     double turn = forward ? g->sin_step : -g->sin_step, u[3] = {out->x[0], out->x[1], out->x[2]};
     double angle = (forward ? out->facet + 1 : out->facet) * g->step, dir[2] = {cos(angle), sin(angle)};
-    for (int q = 0; q <= corners; q++) {
-      double w[3] = {in->x[0], in->x[1], in->x[2]};
-      if (q < corners && steep) poly_cylinder_lift(p, dir, g->corner_radius, w);
-      if (q < corners && !steep) w[0] = g->corner_radius * dir[0], w[1] = g->corner_radius * dir[1];
-      if (steep) poly_cylinder_add_triangle(o, u, w, &piece_arcs);
-      else poly_cylinder_moments_add(&arcs, u[0] - o[0], u[1] - o[1], w[0] - o[0], w[1] - o[1]);
-      for (int n = 0; n < 3; n++) u[n] = w[n];
+    for (int q = 0; q < corners; q++) {
+      if (steep) {
+        double w[3];
+        poly_cylinder_lift(p, dir, g->corner_radius, w);
+        poly_cylinder_add_triangle(o, u, w, &piece_arcs);
+        for (int n = 0; n < 3; n++) u[n] = w[n];
+      } else {
+        double wx = g->corner_radius * dir[0], wy = g->corner_radius * dir[1];
+        poly_cylinder_moments_add(&arcs, u[0] - o[0], u[1] - o[1], wx - o[0], wy - o[1]);
+        u[0] = wx, u[1] = wy;
+      }
       double rotated = dir[0] * g->cos_step - dir[1] * turn;
       dir[1] = dir[1] * g->cos_step + dir[0] * turn;
       dir[0] = rotated;
       double renorm = 1.5 - 0.5 * (dir[0] * dir[0] + dir[1] * dir[1]);
       dir[0] *= renorm, dir[1] *= renorm;
     }
+    if (steep) poly_cylinder_add_triangle(o, u, in->x, &piece_arcs);
+    else poly_cylinder_moments_add(&arcs, u[0] - o[0], u[1] - o[1], in->x[0] - o[0], in->x[1] - o[1]);
   }
   const double sign = drum ? -1.0 : 1.0;
   if (steep) { /* the piece's area: the length of its area vector (it is planar) */
@@ -701,10 +709,11 @@ POLY_INLINE void poly_cylinder_overlap_with(const poly_shape_view_d *shape, cons
   double nearest2 = INFINITY;
   for (int t = 0; t < shape->num_triangles; t++) {
     const int *tri = shape->triangles + 3 * t;
-    int reach_in = !cull;
-    for (int c = 0; c < 3 && !reach_in; c++)
-      reach_in = masked ? near[tri[c]] : poly_cylinder_may_reach(toward, shape->vertices + 3 * tri[c], above, below);
-    if (!reach_in) continue;
+    if (masked && !(near[tri[0]] | near[tri[1]] | near[tri[2]])) continue;
+    if (cull && !masked && !poly_cylinder_may_reach(toward, shape->vertices + 3 * tri[0], above, below) &&
+        !poly_cylinder_may_reach(toward, shape->vertices + 3 * tri[1], above, below) &&
+        !poly_cylinder_may_reach(toward, shape->vertices + 3 * tri[2], above, below))
+      continue;
     double p[3][3];
     for (int c = 0; c < 3; c++) {
       double world[3];

@@ -68,13 +68,13 @@ static double time_configuration(const bench_shape *s, const poly_pose *poses_a,
   ws_d->use_filter = use_filter;
   ws_f->use_filter = use_filter;
   pose_set set = {s, poses_a, poses_b, num_poses, single, ws_d, ws_f};
-  return median_time_us(run_pose_set, &set, num_poses, repeats);
+  return median_time_us(run_pose_set, &set, num_poses, repeats, NULL);
 }
 
 int main(int argc, char **argv)
 {
   int num_poses, repeats;
-  if (read_arguments(argc, argv, &num_poses, &repeats)) return 2;
+  if (read_arguments(argc, argv, &num_poses, &repeats, 1)) return 2;
 
   bench_shape shapes[NUM_SHAPES];
   int max_vertices = 0, max_triangles = 0;
