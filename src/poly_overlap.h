@@ -31,6 +31,13 @@
  * result is the limit of the nearby generic configuration: finite, and
  * continuous in the poses.
  *
+ * Three paths compute these sums (poly_overlap_impl.h): the reference path,
+ * which evaluates each predicate where it needs it (the GPU's); the crossing
+ * records, which decide each edge-triangle crossing once and derive the
+ * inside states and the chords from those decisions (the same bits); and, for
+ * two shapes found convex when built, the convex path (faces' planes, edges
+ * clipped by them), which hands what it cannot decide back.
+ *
  * The same code is compiled in double (suffix _d), single (suffix _f) and
  * mixed (suffix _m: single geometry, double sums) precision from
  * poly_overlap_impl.h; poses and results are always double, and the geometry
