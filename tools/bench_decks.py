@@ -21,7 +21,7 @@ Called by tools/bench_vs_multisphere.sh and tools/bench_tutorial_decks.sh:
         style, pair style, template, integrator, wall fixes, erotate compute, orientation random at insertion);
         both without their dump lines, and both cut after the first S steps of the schedule (default 12000: the
         insertion stage, 8000 steps, and the first 4000 of the settling; --all: the whole deck, 70000 steps,
-        about an hour here today; --quick: 2000).
+        68 min here today; --quick: 2000).
       hopper: examples/hopper/run.py (300 rock_40 of 2 cm against Hertz spheres of their volume; fill 4500
         steps, discharge 6000), one run after the other (--quick: fill 0.1 s, discharge 0.05 s).
 

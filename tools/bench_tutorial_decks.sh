@@ -6,7 +6,7 @@
 #
 # movingMeshGran: the tutorial as Debian's liggghts-doc ships it, its particle lines converted to rock_40 of the
 # spheres' volume (tools/bench_decks.py, convert_to_polyhedra), both without dumps and cut after the first S
-# steps (default 12000, about 6 min here; --all the whole 70000, about an hour). hopper: examples/hopper/run.py
+# steps (default 12000, about 6 min here; --all the whole 70000, 68 min today). hopper: examples/hopper/run.py
 # (300 rocks against 300 spheres, fill and discharge; about 1.5 min). Per stage and in all: LIGGGHTS' Loop time
 # / (particles x steps) for rocks and spheres and their ratio (targets: movingMeshGran at most 5, hopper at
 # most 10); the sphere decks run 3 times (--repeat N), their median counts. --quick: 2000 steps of
