@@ -86,6 +86,58 @@ POLY_INLINE int POLY_FN(convex_row)(int v, const R *my_vertices, int mine_is_b, 
   return row;
 }
 
+/* Cyrus-Beck clipping of a ridge by the faces of the other body: the last
+ * face it enters through and the first it leaves through, with their
+ * parameters along it. */
+typedef struct POLY_FN(clip) {
+  R enter, leave;
+  int enter_face, leave_face;
+} POLY_FN(clip);
+
+/* The ridge's crossing of one face whose sides (plane_side values side0,
+ * side1 at its ends) differ: `entering` where its first end is in front. */
+POLY_INLINE void POLY_FN(clip_by_face)(POLY_FN(clip) *clip, R side0, R side1, int entering, int face)
+{
+  R lambda = side0 == 0 ? (R)0 : (side1 == 0 ? (R)1 : side0 / (side0 - side1));
+  lambda = lambda < 0 ? (R)0 : (lambda > 1 ? (R)1 : lambda);
+  if (entering) {
+    if (clip->enter_face < 0 || lambda > clip->enter) {
+      clip->enter = lambda;
+      clip->enter_face = face;
+    }
+  } else if (clip->leave_face < 0 || lambda < clip->leave) {
+    clip->leave = lambda;
+    clip->leave_face = face;
+  }
+}
+
+/* The records of ridge e (its ends inside or not: in0, in1; `through`: both
+ * outside, crossing the body) and its run, appended; -1 when they do not fit. */
+POLY_INLINE int POLY_FN(ridge_records)(POLY_FN(overlap_workspace) *ws, int e, int in0, int in1, int through,
+                                       const POLY_FN(clip) *clip, int *num_records, int *runs, int *num_runs)
+{
+  int first = *num_records, count = 0;
+  if (first + 2 > ws->capacity_records) return -1;
+  if ((!in0 && in1) || through) {
+    ws->record_lambda[first + count] = clip->enter;
+    ws->record_entering[first + count] = (R)1;
+    ws->record_triangle[first + count] = clip->enter_face;
+    ws->record_edge[first + count++] = e;
+  }
+  if ((in0 && !in1) || through) {
+    ws->record_lambda[first + count] = clip->leave;
+    ws->record_entering[first + count] = (R)-1;
+    ws->record_triangle[first + count] = clip->leave_face;
+    ws->record_edge[first + count++] = e;
+  }
+  *num_records = first + count;
+  int *run = runs + 3 * (*num_runs)++;
+  run[0] = e;
+  run[1] = first;
+  run[2] = count;
+  return 0;
+}
+
 /* Records of the ridges of `mine` in the slab, clipped by the faces of
  * `other`: the crossing where a ridge enters the other body (the last face it
  * enters through) and where it leaves it (the first it leaves through), with
@@ -107,8 +159,8 @@ POLY_INLINE int POLY_FN(convex_crossings)(const POLY_FN(shape_view) *mine, const
     int row1 = POLY_FN(convex_row)(v1, my_vertices, mine_is_b, other, other_vertices, other_planes, faces, num_faces,
                                    row_of, inside, ws, num_sides);
     if (row0 < 0 || row1 < 0) return -1;
-    R enter = 0, leave = 1;
-    int enter_face = -1, leave_face = -1, missed = 0;
+    POLY_FN(clip) clip = {0, 1, -1, -1};
+    int missed = 0;
     for (int c = 0; c < num_faces && !missed; c++) {
       const int *tri = other->triangles + 3 * faces[c];
       const R *plane = other_planes + 4 * faces[c];
@@ -117,39 +169,11 @@ POLY_INLINE int POLY_FN(convex_crossings)(const POLY_FN(shape_view) *mine, const
       int sign1 = POLY_FN(side_sign)(side1, mine_is_b, other_vertices, tri, plane);
       if (sign0 > 0 && sign1 > 0) missed = 1;
       if (sign0 == sign1) continue;
-      R lambda = side0 == 0 ? (R)0 : (side1 == 0 ? (R)1 : side0 / (side0 - side1));
-      lambda = lambda < 0 ? (R)0 : (lambda > 1 ? (R)1 : lambda);
-      if (sign0 > 0) {
-        if (enter_face < 0 || lambda > enter) {
-          enter = lambda;
-          enter_face = faces[c];
-        }
-      } else if (leave_face < 0 || lambda < leave) {
-        leave = lambda;
-        leave_face = faces[c];
-      }
+      POLY_FN(clip_by_face)(&clip, side0, side1, sign0 > 0, faces[c]);
     }
     int in0 = inside[v0], in1 = inside[v1];
-    int through = !missed && !in0 && !in1 && enter_face >= 0 && leave_face >= 0 && enter < leave;
-    int first = *num_records, count = 0;
-    if (first + 2 > ws->capacity_records) return -1;
-    if ((!in0 && in1) || through) {
-      ws->record_lambda[first + count] = enter;
-      ws->record_entering[first + count] = (R)1;
-      ws->record_triangle[first + count] = enter_face;
-      ws->record_edge[first + count++] = e;
-    }
-    if ((in0 && !in1) || through) {
-      ws->record_lambda[first + count] = leave;
-      ws->record_entering[first + count] = (R)-1;
-      ws->record_triangle[first + count] = leave_face;
-      ws->record_edge[first + count++] = e;
-    }
-    *num_records = first + count;
-    int *run = runs + 3 * (*num_runs)++;
-    run[0] = e;
-    run[1] = first;
-    run[2] = count;
+    int through = !missed && !in0 && !in1 && clip.enter_face >= 0 && clip.leave_face >= 0 && clip.enter < clip.leave;
+    if (POLY_FN(ridge_records)(ws, e, in0, in1, through, &clip, num_records, runs, num_runs)) return -1;
   }
   return 0;
 }
@@ -227,51 +251,5 @@ POLY_INLINE int POLY_FN(convex_path)(const POLY_FN(shape_view) *a, const R *va, 
   out->num_points = num_points;
   out->num_inconsistent = 0;
   out->flush = 0;
-  return 0;
-}
-
-/* A separating plane among the faces of two convex shapes: is either body
- * wholly in front of a face of the other (to within 1e-12 of their size, as
- * overlap_slab)? The centre line's slab misses most pairs of blocks side by
- * side and turned; in a pile of cubes a third of the pairs past it do not
- * touch, and this rejects them for one dot product per face and vertex, in
- * double, before any triangle is filtered. */
-POLY_INLINE int POLY_FN(convex_separated)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
-                                          const double *rotation, const double *translation)
-{
-  double reach = 1e-12 * ((double)a->bounding_radius + (double)b->bounding_radius);
-  for (int pass = 0; pass < 2; pass++) {
-    /* pass 0: faces of B (turned into A's frame) against A's vertices; 1: faces of A against B's. */
-    const POLY_FN(shape_view) *faced = pass ? a : b, *other = pass ? b : a;
-    for (int t = 0; t < faced->num_triangles; t++) {
-      if (faced->face_of[t] != t) continue;
-      const R *n = faced->face_normals + 3 * t, *corner = faced->vertices + 3 * faced->triangles[3 * t];
-      double normal[3], height;
-      if (!pass) {
-        double x[3];
-        for (int k = 0; k < 3; k++) {
-          normal[k] = rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2];
-          x[k] = rotation[3 * k] * corner[0] + rotation[3 * k + 1] * corner[1] + rotation[3 * k + 2] * corner[2] +
-                 translation[k];
-        }
-        height = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
-      } else {
-        /* B's vertices are R v + T: n . (R v + T) = (R^T n) . v + n . T. */
-        double turned[3];
-        for (int k = 0; k < 3; k++) turned[k] = n[k];
-        for (int k = 0; k < 3; k++)
-          normal[k] = rotation[k] * turned[0] + rotation[3 + k] * turned[1] + rotation[6 + k] * turned[2];
-        height = (double)n[0] * corner[0] + (double)n[1] * corner[1] + (double)n[2] * corner[2] -
-                 ((double)n[0] * translation[0] + (double)n[1] * translation[1] + (double)n[2] * translation[2]);
-      }
-      double lowest = 1e300;
-      for (int v = 0; v < other->num_vertices && lowest - height > reach; v++) {
-        const R *x = other->vertices + 3 * v;
-        double along = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
-        if (along < lowest) lowest = along;
-      }
-      if (lowest - height > reach) return 1;
-    }
-  }
   return 0;
 }

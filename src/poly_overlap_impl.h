@@ -441,13 +441,13 @@ POLY_INLINE int POLY_FN(overlap_slab)(const POLY_FN(shape_view) *a, const POLY_F
     double along = axis_d[0] * v[0] + axis_d[1] * v[1] + axis_d[2] * v[2];
     if (along > high_a) high_a = along;
   }
+  /* B's vertices along the axis: axis . (R v + T) = (R^T axis) . v + axis . T, without turning each vertex. */
+  double turned[3], shift = axis_d[0] * translation[0] + axis_d[1] * translation[1] + axis_d[2] * translation[2];
+  for (int i = 0; i < 3; i++)
+    turned[i] = rotation[i] * axis_d[0] + rotation[3 + i] * axis_d[1] + rotation[6 + i] * axis_d[2];
   for (int j = 0; j < b->num_vertices; j++) {
     const R *v = b->vertices + 3 * j;
-    double along = 0.0;
-    for (int k = 0; k < 3; k++) {
-      double w = rotation[3 * k] * v[0] + rotation[3 * k + 1] * v[1] + rotation[3 * k + 2] * v[2] + translation[k];
-      along += axis_d[k] * w;
-    }
+    double along = turned[0] * v[0] + turned[1] * v[1] + turned[2] * v[2] + shift;
     if (along < low_b) low_b = along;
   }
   *extent_a = high_a;
@@ -514,6 +514,7 @@ typedef struct POLY_FN(filtered) {
 #include "poly_overlap_reference_impl.h"
 #include "poly_overlap_records_impl.h"
 #include "poly_overlap_convex_impl.h"
+#include "poly_overlap_blocks_impl.h"
 
 /* One evaluation of the boundary sums of A n B, B placed by rotation and
  * translation in A's body frame. `use_filter` 0: every triangle, no early exit
@@ -535,11 +536,6 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   double axis_d[3], extent_a, extent_b;
   int separated = POLY_FN(overlap_slab)(a, b, rotation, translation, axis_d, &extent_a, &extent_b);
   for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
-  /* Convex shapes of few faces (blocks): a face plane may separate them. With many faces the test costs more
-   * than the narrow phase it would spare (an icosphere of 320 triangles: 1.5x slower). */
-  if (!separated && use_filter && ws->use_records && ws->use_convex && a->face_of && b->face_of &&
-      a->num_triangles + b->num_triangles <= 64)
-    separated = POLY_FN(convex_separated)(a, b, rotation, translation);
   if (separated && use_filter) {
     out->filtered_out = 1;
     return;
@@ -582,6 +578,21 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
       vb[3 * j + k] = (R)(rotation[3 * k] * v[0] + rotation[3 * k + 1] * v[1] + rotation[3 * k + 2] * v[2] +
                           translation[k] - origin[k]);
   }
+
+  /* Small convex shapes: the blocks path needs no filter. */
+  int blocks_failed = 0;
+#if POLY_OVERLAP_RECORDS
+  if (use_filter && ws->use_records && ws->use_convex && POLY_FN(blocks_fit)(a, b, ws)) {
+    int status = POLY_FN(blocks_path)(a, va, b, vb, rotation, tolerance, ws, out);
+    if (status >= 0) {
+      out->filtered_out = status == 1;
+      ws->capacity_points = capacity_points;
+      return;
+    }
+    ws->convex_fallbacks++;
+    blocks_failed = 1;
+  }
+#endif
 
   /* Half-space filter (eq. 5.5) and bounding boxes of what survives. */
   R box_a_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_a_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
@@ -645,7 +656,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   /* The sums by the cheapest path that can decide them: convex shapes' face
    * table, the crossing records, or the reference path. */
   int done = 0;
-  if (ws->use_records && ws->use_convex && use_filter && a->face_of && b->face_of) {
+  if (ws->use_records && ws->use_convex && use_filter && a->face_of && b->face_of && !blocks_failed) {
     done = POLY_FN(convex_path)(a, va, b, vb, rotation, &f, ws, out) == 0;
     if (!done) ws->convex_fallbacks++;
   }

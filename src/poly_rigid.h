@@ -92,11 +92,15 @@ POLY_INLINE void poly_cross3_d(const double a[3], const double b[3], double out[
 POLY_INLINE void poly_second_moment_add(double m[6], double v6, const double a[3], const double b[3], const double c[3])
 {
   double s[3] = {a[0] + b[0] + c[0], a[1] + b[1] + c[1], a[2] + b[2] + c[2]};
-  const int row[6] = {0, 1, 2, 0, 0, 1}, column[6] = {0, 1, 2, 1, 2, 2};
-  for (int e = 0; e < 6; e++) {
-    int i = row[e], j = column[e];
-    m[e] += v6 * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j]);
-  }
+  /* Written out: the contact loop adds one per boundary segment, and the indexed loop did not unroll. */
+#define POLY_SECOND_TERM(i, j) (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j])
+  m[0] += v6 * POLY_SECOND_TERM(0, 0);
+  m[1] += v6 * POLY_SECOND_TERM(1, 1);
+  m[2] += v6 * POLY_SECOND_TERM(2, 2);
+  m[3] += v6 * POLY_SECOND_TERM(0, 1);
+  m[4] += v6 * POLY_SECOND_TERM(0, 2);
+  m[5] += v6 * POLY_SECOND_TERM(1, 2);
+#undef POLY_SECOND_TERM
 }
 
 /* m about the origin -> about the centroid c of the volume V (parallel axes). */

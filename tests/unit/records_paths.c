@@ -8,7 +8,8 @@
  * default, for shapes found convex) with the general records path
  * (use_convex = 0); the node counts then differ (the convex path does not
  * clip the diagonals of flat faces), and are not compared.
- * Poses: random orientations at centre distances from deep to grazing, and
+ * Poses: random orientations at centre distances from deep to grazing, B
+ * resting on A (one in eight: face on face for blocks, as in a pile), and
  * degenerate ones (both at the identity, or one turned by a multiple of 90
  * degrees about z, moved along axes by fractions of the size that make faces
  * flush, vertices touch faces and edges meet edges; B identical to A).
@@ -73,6 +74,30 @@ static void evaluate(const poly_pose *a, const poly_pose *b, int use_records, po
   }
 }
 
+/* B resting on A as blocks rest in a pile: A at the identity, B above it turned about z by a random angle and
+ * tilted by up to 0.01 rad, moved sideways by up to a tenth of the size, 1e-4 to 1e-2 of the size deep. */
+static void resting_pose(const poly_shape *shape, double size, poly_pose *b)
+{
+  double turn = 2 * 3.14159265358979323846 * uniform(), tilt = 0.01 * uniform();
+  double azimuth = 2 * 3.14159265358979323846 * uniform();
+  double about_z[4] = {cos(0.5 * turn), 0, 0, sin(0.5 * turn)};
+  double tilted[4] = {cos(0.5 * tilt), sin(0.5 * tilt) * cos(azimuth), sin(0.5 * tilt) * sin(azimuth), 0};
+  poly_quat_multiply(tilted, about_z, b->quaternion);
+  double rotation[9], top = -1e300, bottom = 1e300;
+  poly_quat_to_matrix(b->quaternion, rotation);
+  for (int v = 0; v < shape->num_vertices; v++) {
+    const double *x = shape->vertices + 3 * v;
+    double turned[3];
+    poly_matrix_apply(rotation, x, turned);
+    if (x[2] > top) top = x[2];
+    if (turned[2] < bottom) bottom = turned[2];
+  }
+  double depth = size * pow(10.0, -4.0 + 2.0 * uniform());
+  b->position[0] = 0.1 * size * (2 * uniform() - 1);
+  b->position[1] = 0.1 * size * (2 * uniform() - 1);
+  b->position[2] = top - bottom - depth;
+}
+
 int main(int argc, char **argv)
 {
   if (argc < 4) {
@@ -101,7 +126,9 @@ int main(int argc, char **argv)
   int flag_differences = 0, overlapping = 0, smoothed = 0;
   for (int p = 0; p < num_poses; p++) {
     poly_pose a = {{0, 0, 0}, {1, 0, 0, 0}}, b = {{0, 0, 0}, {1, 0, 0, 0}};
-    if (p % 4 != 3) {
+    if (p % 8 == 5) {
+      resting_pose(&shape, size, &b);
+    } else if (p % 4 != 3) {
       random_quaternion(a.quaternion);
       random_quaternion(b.quaternion);
       double direction[3], norm = 0;
@@ -124,7 +151,7 @@ int main(int argc, char **argv)
     poly_overlap_result fast, reference;
     evaluate(&a, &b, 1, &fast);
     evaluate(&a, &b, 0, &reference);
-    /* The convex path also rejects pairs separated by a face plane (convex_separated): filtered there means
+    /* The blocks path also rejects pairs separated by a face plane (blocks_path): filtered there means
      * no overlap in the reference, not its filter's verdict. */
     int filtered_differ = convex_mode ? (fast.filtered_out && reference.volume > 0) || (reference.filtered_out && !fast.filtered_out)
                                       : fast.filtered_out != reference.filtered_out;
