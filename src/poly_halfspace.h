@@ -21,6 +21,9 @@
 
 #include "poly_overlap.h"
 
+/* Shapes of up to this many vertices keep their vertices' penetrations on the stack. */
+#define POLY_HALFSPACE_STACK_VERTICES 256
+
 /* shape: double-precision view (body frame). rotation: body to world (row
  * major), position: centre of mass. On return result has volume, centroid,
  * normal (from the particle into the wall), depth and area (of the particle's
@@ -45,17 +48,30 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
   }
   double foot[3] = {d * n[0], d * n[1], d * n[2]};
 
-  double volume6 = 0.0, moment24[3] = {0.0, 0.0, 0.0}, area = 0.0, along_normal = 0.0, deepest = 0.0;
-  double second120[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  /* Each vertex's penetration below the plane (> 0 inside the wall), once: a particle near a wall mostly
+   * does not touch it, and a vertex is shared by about six triangles. */
+  double penetration[POLY_HALFSPACE_STACK_VERTICES], deepest = 0.0;
+  const int stored = shape->num_vertices <= POLY_HALFSPACE_STACK_VERTICES; /* larger shapes: per triangle */
   int inside_vertices = 0;
-  for (int t = 0; t < shape->num_triangles; t++) {
+  for (int i = 0; i < shape->num_vertices; i++) {
+    const double *y = shape->vertices + 3 * i;
+    double s = d - (n[0] * y[0] + n[1] * y[1] + n[2] * y[2]);
+    if (stored) penetration[i] = s;
+    if (s > 0.0) {
+      inside_vertices++;
+      if (s > deepest) deepest = s;
+    }
+  }
+  double volume6 = 0.0, moment24[3] = {0.0, 0.0, 0.0}, area = 0.0, along_normal = 0.0;
+  double second120[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int t = 0; t < shape->num_triangles && inside_vertices > 0; t++) {
     const int *tri = shape->triangles + 3 * t;
     const double *v[3];
     double s[3];  /* penetration below the plane: > 0 inside the wall */
     int inside = 0;
     for (int c = 0; c < 3; c++) {
       v[c] = shape->vertices + 3 * tri[c];
-      s[c] = d - (n[0] * v[c][0] + n[1] * v[c][1] + n[2] * v[c][2]);
+      s[c] = stored ? penetration[tri[c]] : d - (n[0] * v[c][0] + n[1] * v[c][1] + n[2] * v[c][2]);
       inside += s[c] > 0.0;
     }
     if (inside == 0) continue;
@@ -85,14 +101,6 @@ POLY_INLINE void poly_halfspace_overlap(const poly_shape_view_d *shape, const do
       double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
       area += 0.5 * sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
       along_normal -= 0.5 * (n[0] * cross[0] + n[1] * cross[1] + n[2] * cross[2]);
-    }
-  }
-  for (int i = 0; i < shape->num_vertices; i++) {
-    const double *y = shape->vertices + 3 * i;
-    double s = d - (n[0] * y[0] + n[1] * y[1] + n[2] * y[2]);
-    if (s > 0.0) {
-      inside_vertices++;
-      if (s > deepest) deepest = s;
     }
   }
   double volume = volume6 / 6.0;

@@ -264,8 +264,12 @@ POLY_INLINE void POLY_FN(add_segment)(POLY_FN(accumulator) *acc, R *apex, const 
     for (int k = 0; k < 3; k++) acc->reference[k] = x1[k];
     acc->has_reference = 1;
   }
-  if (apex[0] == POLY_NO_APEX)
+  if (apex[0] == POLY_NO_APEX) {
+    /* The facet's first segment starts at its apex: a flat tetrahedron, nothing to add (adding its zeros
+     * would not change a bit of the sums). */
     for (int k = 0; k < 3; k++) apex[k] = x1[k];
+    return;
+  }
   ACC q[3], e1[3], side[3];
   for (int k = 0; k < 3; k++) {
     q[k] = (ACC)apex[k] - (ACC)acc->reference[k];
