@@ -114,6 +114,8 @@ __device__ View shape_view(const DeviceShapes &s, int shape, const Real *vertice
   v.edge_triangles = s.edge_triangles + 2 * s.offsets[3 * shape + 2];
   v.face_of = v.ridges = NULL;  // the device takes the reference path (POLY_OVERLAP_RECORDS 0)
   v.num_ridges = 0;
+  v.support = NULL;
+  v.num_support = 0;
   v.bounding_radius = (Real)s.radius[shape];
   return v;
 }

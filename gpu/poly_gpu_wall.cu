@@ -60,6 +60,8 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
   prism.edge_triangles = piece.edge_triangles;
   prism.face_of = prism.ridges = NULL;
   prism.num_ridges = 0;
+  prism.support = NULL;
+  prism.num_support = 0;
   prism.bounding_radius = (Real)piece.bounding_radius;
   const double identity[4] = {1.0, 0.0, 0.0, 0.0};
   double rotation_a[9], rotation[9], translation[3];

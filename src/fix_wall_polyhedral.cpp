@@ -545,6 +545,8 @@ void FixWallPolyhedral::compute_mesh_overlaps()
     prism.view.edge_triangles = prism.edge_triangles;
     prism.view.face_of = prism.view.ridges = NULL;
     prism.view.num_ridges = 0;
+    prism.view.support = NULL;
+    prism.view.num_support = 0;
   }
   compute_overlaps();
 }

@@ -1,5 +1,6 @@
 /* Convex shapes and their faces, found once when a shape is built, for the
- * convex path of the overlap (poly_overlap_convex_impl.h). */
+ * convex path of the overlap (poly_overlap_convex_impl.h), and the supporting
+ * triangles of any shape (the separation test of overlap_pass). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -29,25 +30,34 @@ static int same_plane(const poly_shape *shape, int t, int u, double tolerance)
   return 1;
 }
 
+/* Does triangle t's plane support the shape: every vertex on or behind it, to `tolerance`? */
+static int supports(const poly_shape *shape, int t, double tolerance)
+{
+  const double *n = shape->face_normals + 3 * t, *origin = shape->vertices + 3 * shape->triangles[3 * t];
+  for (int v = 0; v < shape->num_vertices; v++) {
+    const double *x = shape->vertices + 3 * v;
+    if (n[0] * (x[0] - origin[0]) + n[1] * (x[1] - origin[1]) + n[2] * (x[2] - origin[2]) > tolerance) return 0;
+  }
+  return 1;
+}
+
 poly_status poly_shape_find_faces(poly_shape *shape)
 {
   free(shape->face_of);
   free(shape->ridges);
-  shape->face_of = shape->ridges = NULL;
-  shape->num_ridges = 0;
+  free(shape->support);
+  shape->face_of = shape->ridges = shape->support = NULL;
+  shape->num_ridges = shape->num_support = 0;
   const int nt = shape->num_triangles, nv = shape->num_vertices, ne = shape->num_edges;
   /* Convex: every vertex on or behind every face's plane, to 1e-12 of the size (a shape that much from
    * convex differs from the intersection of its faces' half-spaces by less than the rounding of the
    * particles' poses). */
   const double tolerance = 1e-12 * shape->bounding_radius;
-  for (int t = 0; t < nt; t++) {
-    const double *n = shape->face_normals + 3 * t, *origin = shape->vertices + 3 * shape->triangles[3 * t];
-    for (int v = 0; v < nv; v++) {
-      const double *x = shape->vertices + 3 * v;
-      if (n[0] * (x[0] - origin[0]) + n[1] * (x[1] - origin[1]) + n[2] * (x[2] - origin[2]) > tolerance)
-        return POLY_OK;
-    }
-  }
+  shape->support = (int *)malloc(sizeof(int) * (size_t)(nt > 0 ? nt : 1));
+  if (!shape->support) return POLY_ERROR_MEMORY;
+  for (int t = 0; t < nt; t++)
+    if (supports(shape, t, tolerance)) shape->support[shape->num_support++] = t;
+  if (shape->num_support < nt) return POLY_OK;
   int *parent = (int *)malloc(sizeof(int) * (size_t)nt), *on_ridge = (int *)calloc((size_t)nv, sizeof(int));
   int *face_of = (int *)malloc(sizeof(int) * (size_t)nt);
   int *ridges = (int *)malloc(sizeof(int) * (size_t)(ne > 0 ? ne : 1));

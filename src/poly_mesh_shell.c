@@ -559,6 +559,8 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
   prism->view.edge_triangles = prism->edge_triangles;
   prism->view.face_of = prism->view.ridges = NULL; /* the general path (side quads need not be planar) */
   prism->view.num_ridges = 0;
+  prism->view.support = NULL;
+  prism->view.num_support = 0;
   prism->view.bounding_radius = sqrt(radius2);
   return 0;
 }

@@ -22,6 +22,8 @@ poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
   view.face_of = shape->face_of;
   view.ridges = shape->ridges;
   view.num_ridges = shape->num_ridges;
+  view.support = shape->support;
+  view.num_support = shape->num_support;
   view.bounding_radius = shape->bounding_radius;
   return view;
 }
@@ -49,6 +51,8 @@ int poly_shape_view_make_f(const poly_shape *shape, poly_shape_view_f *view)
   view->face_of = shape->face_of;
   view->ridges = shape->ridges;
   view->num_ridges = shape->num_ridges;
+  view->support = shape->support;
+  view->num_support = shape->num_support;
   view->bounding_radius = (float)shape->bounding_radius;
   return 0;
 }

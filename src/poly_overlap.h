@@ -90,6 +90,8 @@ typedef struct poly_overlap_result {
     const int *face_of;       /* convex shapes: per triangle its face's lowest triangle; else NULL */ \
     const int *ridges;        /* convex shapes: the edges between two faces */                      \
     int num_ridges;                                                                                  \
+    const int *support;       /* triangles whose planes support the shape, or NULL (none known) */  \
+    int num_support;                                                                                 \
   } poly_shape_view##SUFFIX;                                                                        \
   /* Scratch memory for one pair at a time, sized once for the largest shapes. */                   \
   typedef struct poly_overlap_workspace##SUFFIX {                                                   \

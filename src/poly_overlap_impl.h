@@ -427,9 +427,23 @@ POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tr
  * and the lowest of B along it (B's vertices taken to A's body frame in
  * double). Returns 1 when the bodies do not overlap along it, so neither do
  * they: the GPU also uses it to skip such pairs before the overlap kernel. */
+POLY_INLINE int POLY_FN(overlap_slab_extremes)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                               const double *rotation, const double *translation, double *axis_d,
+                                               double *extent_a, double *extent_b, int *extreme_a, int *extreme_b);
+
 POLY_INLINE int POLY_FN(overlap_slab)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
                                       const double *rotation, const double *translation, double *axis_d,
                                       double *extent_a, double *extent_b)
+{
+  int extreme_a, extreme_b;
+  return POLY_FN(overlap_slab_extremes)(a, b, rotation, translation, axis_d, extent_a, extent_b, &extreme_a,
+                                        &extreme_b);
+}
+
+/* overlap_slab, which also gives the vertices at A's highest and B's lowest extent. */
+POLY_INLINE int POLY_FN(overlap_slab_extremes)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                               const double *rotation, const double *translation, double *axis_d,
+                                               double *extent_a, double *extent_b, int *extreme_a, int *extreme_b)
 {
   /* Filtering direction (eq. 5.3): the centre line; any direction is valid. */
   double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
@@ -443,7 +457,10 @@ POLY_INLINE int POLY_FN(overlap_slab)(const POLY_FN(shape_view) *a, const POLY_F
   for (int i = 0; i < a->num_vertices; i++) {
     const R *v = a->vertices + 3 * i;
     double along = axis_d[0] * v[0] + axis_d[1] * v[1] + axis_d[2] * v[2];
-    if (along > high_a) high_a = along;
+    if (along > high_a) {
+      high_a = along;
+      *extreme_a = i;
+    }
   }
   /* B's vertices along the axis: axis . (R v + T) = (R^T axis) . v + axis . T, without turning each vertex. */
   double turned[3], shift = axis_d[0] * translation[0] + axis_d[1] * translation[1] + axis_d[2] * translation[2];
@@ -452,7 +469,10 @@ POLY_INLINE int POLY_FN(overlap_slab)(const POLY_FN(shape_view) *a, const POLY_F
   for (int j = 0; j < b->num_vertices; j++) {
     const R *v = b->vertices + 3 * j;
     double along = turned[0] * v[0] + turned[1] * v[1] + turned[2] * v[2] + shift;
-    if (along < low_b) low_b = along;
+    if (along < low_b) {
+      low_b = along;
+      *extreme_b = j;
+    }
   }
   *extent_a = high_a;
   *extent_b = low_b;
@@ -538,8 +558,14 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   int capacity_points = ws->capacity_points;
 
   double axis_d[3], extent_a, extent_b;
-  int separated = POLY_FN(overlap_slab)(a, b, rotation, translation, axis_d, &extent_a, &extent_b);
+  int extreme_a = 0, extreme_b = 0;
+  int separated = POLY_FN(overlap_slab_extremes)(a, b, rotation, translation, axis_d, &extent_a, &extent_b,
+                                                 &extreme_a, &extreme_b);
   for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
+#if POLY_OVERLAP_RECORDS
+  if (!separated && use_filter && !(a->face_of && b->face_of) && a->support && b->support)
+    separated = POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b);
+#endif
   if (separated && use_filter) {
     out->filtered_out = 1;
     return;

@@ -985,5 +985,6 @@ void poly_shape_free(poly_shape *shape)
   free(shape->vertex_triangles);
   free(shape->face_of);
   free(shape->ridges);
+  free(shape->support);
   memset(shape, 0, sizeof *shape);
 }

@@ -81,6 +81,11 @@ typedef struct poly_shape {
   int *face_of;
   int *ridges;
   int num_ridges;
+  /* The triangles whose planes support the shape (every vertex on or behind them, to 1e-12 of its size),
+   * so that a body wholly in front of one is apart from the shape (poly_shape_find_faces; all of them
+   * for a convex shape). */
+  int *support;
+  int num_support;
 } poly_shape;
 
 /* Reads a mesh; the format is chosen by extension (.stl, .obj, .off, any case).
@@ -111,8 +116,8 @@ poly_status poly_shape_build(const poly_mesh *mesh, double scale, const char *na
 poly_status poly_shape_load(const char *path, double scale, poly_shape *shape,
                             char *message, size_t message_size);
 
-/* Fills face_of and ridges when the shape is convex (to 1e-12 of its size) and every vertex lies on a
- * ridge; leaves them NULL otherwise. Called by poly_shape_build. */
+/* Fills support, and face_of and ridges when the shape is convex (to 1e-12 of its size) and every vertex
+ * lies on a ridge (NULL otherwise). Called by poly_shape_build. */
 poly_status poly_shape_find_faces(poly_shape *shape);
 
 void poly_shape_free(poly_shape *shape);

@@ -61,6 +61,9 @@ def test_records_path_gives_the_reference_bits(driver, shape, precision):
     for quantity in QUANTITIES:
         assert values[quantity] == 0.0, f"{quantity} differs by {values[quantity]:g}\n{log}"
     assert values["flag_differences"] == 0, log
+    # What the filters reject (the slab, the supporting triangles) has no overlap without them.
+    assert values["filtered"] >= 20, "too few rejected poses to test the filters"
+    assert values["wrongly_filtered"] == 0, log
 
 
 def test_flush_poses_are_exercised(driver):

@@ -216,7 +216,7 @@ int main(int argc, char **argv)
           for (int k = 0; k < 18; k++) vertices[k] = (float)prism.vertices[k];
           for (int k = 0; k < 24; k++) normals[k] = (float)prism.face_normals[k];
           poly_shape_view_f prism_f = {6, 8, 12, vertices, normals, prism.triangles, prism.edges,
-                                       prism.edge_triangles, (float)prism.view.bounding_radius, NULL, NULL, 0};
+                                       prism.edge_triangles, (float)prism.view.bounding_radius, NULL, NULL, 0, NULL, 0};
           if (precision == POLY_PRECISION_SINGLE)
             poly_overlap_f(&view_f, &poses[n], &prism_f, &prism_pose, &ws_f, &host);
           else
