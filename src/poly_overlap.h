@@ -31,12 +31,14 @@
  * result is the limit of the nearby generic configuration: finite, and
  * continuous in the poses.
  *
- * Three paths compute these sums (poly_overlap_impl.h): the reference path,
+ * Four paths compute these sums (poly_overlap_impl.h): the reference path,
  * which evaluates each predicate where it needs it (the GPU's); the crossing
  * records, which decide each edge-triangle crossing once and derive the
  * inside states and the chords from those decisions (the same bits); and, for
  * two shapes found convex when built, the convex path (faces' planes, edges
- * clipped by them), which hands what it cannot decide back.
+ * clipped by them) or, for convex shapes of few faces, the blocks path (the
+ * same clipping from one table of every vertex's sides of every face, no
+ * half-space filter), which hand what they cannot decide back.
  *
  * The same code is compiled in double (suffix _d), single (suffix _f) and
  * mixed (suffix _m: single geometry, double sums) precision from
