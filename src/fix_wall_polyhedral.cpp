@@ -537,16 +537,7 @@ void FixWallPolyhedral::compute_mesh_overlaps()
   }
   // The copies' views still point into the prism they were copied from.
   for (size_t p = 0; p < prisms.size(); p++) {
-    poly_mesh_prism &prism = prisms[p];
-    prism.view.vertices = prism.vertices;
-    prism.view.face_normals = prism.face_normals;
-    prism.view.triangles = prism.triangles;
-    prism.view.edges = prism.edges;
-    prism.view.edge_triangles = prism.edge_triangles;
-    prism.view.face_of = prism.view.ridges = NULL;
-    prism.view.num_ridges = 0;
-    prism.view.support = NULL;
-    prism.view.num_support = 0;
+    poly_mesh_prism_rebind(&prisms[p]);
   }
   compute_overlaps();
 }

@@ -480,6 +480,57 @@ static int prism_add_triangle(int *triangles, int count, int a, int b, int c)
   return count + 1;
 }
 
+/* The prism's supporting triangles (every corner on or behind the plane, to 1e-12 of its size: the
+ * separation test of the overlap) and, when all 8 support it (a convex prism: side quads planar or folded
+ * outwards, as over a flat or convex stretch of wall), its faces (coplanar triangles merged) and ridges, so
+ * that a convex particle and it take the blocks path. Otherwise the general path (a side quad folded inwards
+ * makes the prism non-convex). */
+static void prism_faces(poly_mesh_prism *prism)
+{
+  const double tolerance = 1e-12 * prism->view.bounding_radius;
+  int num_support = 0;
+  for (int t = 0; t < 8; t++) {
+    const double *n = prism->face_normals + 3 * t, *origin = prism->vertices + 3 * prism->triangles[3 * t];
+    int behind = 1;
+    for (int c = 0; c < 6 && behind; c++) {
+      double offset[3];
+      shell_sub(prism->vertices + 3 * c, origin, offset);
+      behind = shell_dot(n, offset) <= tolerance;
+    }
+    if (behind) prism->support[num_support++] = t;
+  }
+  prism->view.support = prism->support;
+  prism->view.num_support = num_support;
+  prism->view.face_of = prism->view.ridges = NULL;
+  prism->view.num_ridges = 0;
+  if (num_support < 8) return;
+  for (int t = 0; t < 8; t++) prism->face_of[t] = t;
+  /* Merge the two triangles of an edge when they lie in one plane (a planar side quad); a prism's faces are
+   * at most such pairs, so one pass names each face by its lower triangle. */
+  for (int e = 0; e < prism->view.num_edges; e++) {
+    int t = prism->edge_triangles[2 * e], u = prism->edge_triangles[2 * e + 1];
+    const double *n = prism->face_normals + 3 * t, *m = prism->face_normals + 3 * u;
+    if (shell_dot(n, m) < 1.0 - 1e-12) continue;
+    const double *origin = prism->vertices + 3 * prism->triangles[3 * t];
+    int flat = 1;
+    for (int c = 0; c < 3 && flat; c++) {
+      double offset[3];
+      shell_sub(prism->vertices + 3 * prism->triangles[3 * u + c], origin, offset);
+      flat = fabs(shell_dot(n, offset)) <= tolerance;
+    }
+    if (!flat) continue;
+    int low = t < u ? t : u, high = t < u ? u : t;
+    prism->face_of[high] = prism->face_of[low];
+  }
+  int num_ridges = 0;
+  for (int e = 0; e < prism->view.num_edges; e++)
+    if (prism->face_of[prism->edge_triangles[2 * e]] != prism->face_of[prism->edge_triangles[2 * e + 1]])
+      prism->ridges[num_ridges++] = e;
+  prism->view.face_of = prism->face_of;
+  prism->view.ridges = prism->ridges;
+  prism->view.num_ridges = num_ridges;
+}
+
 int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3],
                           poly_mesh_prism *prism)
 {
@@ -557,12 +608,22 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
   prism->view.triangles = prism->triangles;
   prism->view.edges = prism->edges;
   prism->view.edge_triangles = prism->edge_triangles;
-  prism->view.face_of = prism->view.ridges = NULL; /* the general path (side quads need not be planar) */
-  prism->view.num_ridges = 0;
-  prism->view.support = NULL;
-  prism->view.num_support = 0;
   prism->view.bounding_radius = sqrt(radius2);
+  prism_faces(prism);
   return 0;
+}
+
+void poly_mesh_prism_rebind(poly_mesh_prism *prism)
+{
+  int convex = prism->view.face_of != NULL;
+  prism->view.vertices = prism->vertices;
+  prism->view.face_normals = prism->face_normals;
+  prism->view.triangles = prism->triangles;
+  prism->view.edges = prism->edges;
+  prism->view.edge_triangles = prism->edge_triangles;
+  prism->view.support = prism->support;
+  prism->view.face_of = convex ? prism->face_of : NULL;
+  prism->view.ridges = convex ? prism->ridges : NULL;
 }
 
 void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *nodes, const int *first_node,

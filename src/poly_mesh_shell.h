@@ -112,8 +112,14 @@ typedef struct poly_mesh_prism {
   int triangles[24];
   int edges[24];
   int edge_triangles[24];
+  int support[8];   /* the triangles whose planes have every corner behind them */
+  int face_of[8];   /* when all 8 do (a convex prism): per triangle its face's lowest triangle */
+  int ridges[12];   /* and the edges between two faces */
   poly_shape_view_d view;
 } poly_mesh_prism;
+
+/* Points a copied prism's view at the copy's own arrays (a view points into the prism it was made in). */
+void poly_mesh_prism_rebind(poly_mesh_prism *prism);
 
 /* The prism of global triangle `triangle` whose current corners are `nodes`
  * (world). Returns 0, or -1 for a degenerate triangle or a folded prism. */
