@@ -344,17 +344,22 @@ void PairPolyhedralVolumetric::check_timestep()
   }
 }
 
+void PairPolyhedralVolumetric::poses(int i, int j, poly_pose *pose_i, poly_pose *pose_j) const
+{
+  for (int k = 0; k < 3; k++) {
+    pose_i->position[k] = atom->x[i][k];
+    pose_j->position[k] = atom->x[j][k];
+  }
+  for (int k = 0; k < 4; k++) {
+    pose_i->quaternion[k] = atom->quaternion[i][k];
+    pose_j->quaternion[k] = atom->quaternion[j][k];
+  }
+}
+
 void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result)
 {
   poly_pose pose_i, pose_j;
-  for (int k = 0; k < 3; k++) {
-    pose_i.position[k] = atom->x[i][k];
-    pose_j.position[k] = atom->x[j][k];
-  }
-  for (int k = 0; k < 4; k++) {
-    pose_i.quaternion[k] = atom->quaternion[i][k];
-    pose_j.quaternion[k] = atom->quaternion[j][k];
-  }
+  poses(i, j, &pose_i, &pose_j);
   int si = atom->shapetype[i], sj = atom->shapetype[j];
   workspace_d.want_second_moment = workspace_f.want_second_moment = damping && rocking_damping;
   if (precision == POLY_PRECISION_SINGLE)
@@ -363,6 +368,16 @@ void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result
     poly_overlap_m(&views_f[si], &pose_i, &views_f[sj], &pose_j, &workspace_f, result);
   else
     poly_overlap_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, &workspace_d, result);
+}
+
+bool PairPolyhedralVolumetric::still_separated(int i, int j, int hint)
+{
+  poly_pose pose_i, pose_j;
+  poses(i, j, &pose_i, &pose_j);
+  int si = atom->shapetype[i], sj = atom->shapetype[j];
+  if (precision == POLY_PRECISION_DOUBLE)
+    return poly_overlap_still_separated_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, hint);
+  return poly_overlap_still_separated_f(&views_f[si], &pose_i, &views_f[sj], &pose_j, hint);
 }
 
 // The statistics of compute pair/polyhedral/local's vector; an edge still
@@ -415,9 +430,18 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
   int **first_touch = listgranhistory ? listgranhistory->firstneigh : NULL;
   double **first_history = listgranhistory ? listgranhistory->firstdouble : NULL;
 
+  hint_offset.resize(inum);
+  size_t num_hints = 0;
+  for (int ii = 0; ii < inum; ii++) {
+    hint_offset[ii] = (int) num_hints;
+    num_hints += numneigh[ilist[ii]];
+  }
+  if (separating_hint.size() < num_hints) separating_hint.resize(num_hints, -1);
+
   for (int ii = 0; ii < inum; ii++) {
     int i = ilist[ii];
     int *jlist = firstneigh[i], *touch = first_touch ? first_touch[i] : NULL;
+    int *hints = &separating_hint[hint_offset[ii]];
     double *all_history = first_history ? first_history[i] : NULL;
     for (int jj = 0; jj < numneigh[i]; jj++) {
       int j = jlist[jj] & NEIGHMASK;
@@ -430,14 +454,17 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
         int si = atom->shapetype[i], sj = atom->shapetype[j];
         if (si <= 0 || sj <= 0 || si >= num_shapes || sj >= num_shapes)
           error->one(FLERR, "Pair polyhedral/volumetric: a particle has a shape without template");
-        overlap(i, j, &geometry);
-        count_degenerate(geometry);
-        // Faces that touch exactly come out with a round-off volume (the symbolic
-        // perturbation may push them together by an infinitesimal amount): below
-        // 1e-12 of the smaller particle's volume an overlap is not a contact.
-        double volume_i = rmass[i] / density[i], volume_j = rmass[j] / density[j];
-        double negligible = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
-        in_contact = geometry.volume > negligible && geometry.depth > 0.0;
+        if (hints[jj] < 0 || !still_separated(i, j, hints[jj])) {
+          overlap(i, j, &geometry);
+          hints[jj] = geometry.separating;
+          count_degenerate(geometry);
+          // Faces that touch exactly come out with a round-off volume (the symbolic
+          // perturbation may push them together by an infinitesimal amount): below
+          // 1e-12 of the smaller particle's volume an overlap is not a contact.
+          double volume_i = rmass[i] / density[i], volume_j = rmass[j] / density[j];
+          double negligible = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
+          in_contact = geometry.volume > negligible && geometry.depth > 0.0;
+        }
       }
       if (!in_contact) {
         // A pair that was not touching has zero history already: LIGGGHTS' lists

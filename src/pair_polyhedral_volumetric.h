@@ -94,7 +94,14 @@ class PairPolyhedralVolumetric : public Pair {
   void ensure_history_fix();
   void check_timestep();
   bool begin_compute(int eflag, int vflag);
+  void poses(int i, int j, poly_pose *pose_i, poly_pose *pose_j) const;
   void overlap(int i, int j, poly_overlap_result *result);
+  // Per neighbour pair, the code of the supporting triangle that parted it at its last evaluation (-1: none),
+  // laid out as the neighbour list (hint_offset per ii): most pairs that are apart stay apart from one step
+  // to the next, and one plane shows it. A code left from another pair after a neighbour-list build is safe
+  // (poly_overlap_still_separated tests it on the current pose), merely useless.
+  std::vector<int> separating_hint, hint_offset;
+  bool still_separated(int i, int j, int hint);
   void apply_contact(int i, int j, double volume, double depth, const double *normal, const double *centroid,
                      const poly_contact_output &out);
   const poly_material_pair &material(int itype, int jtype) const

@@ -120,6 +120,20 @@ POLY_OVERLAP_ENTRY(_d)
 POLY_OVERLAP_ENTRY(_f)
 POLY_OVERLAP_ENTRY(_m)
 
+#define POLY_STILL_SEPARATED(SUFFIX)                                                                   \
+  int poly_overlap_still_separated##SUFFIX(const poly_shape_view##SUFFIX *a, const poly_pose *pose_a, \
+                                           const poly_shape_view##SUFFIX *b, const poly_pose *pose_b, \
+                                           int separating)                                            \
+  {                                                                                                   \
+    double rotation_a[9], rotation[9], translation[3];                                                \
+    poly_overlap_relative_pose(pose_a->position, pose_a->quaternion, pose_b->position, pose_b->quaternion, \
+                               rotation_a, rotation, translation);                                    \
+    return poly_still_separated##SUFFIX(a, b, rotation, translation, separating);                     \
+  }
+
+POLY_STILL_SEPARATED(_d)
+POLY_STILL_SEPARATED(_f)
+
 #define POLY_OVERLAP_NODES(SUFFIX)                                                                     \
   int poly_overlap_nodes##SUFFIX(const poly_overlap_workspace##SUFFIX *ws, const poly_pose *pose_a,   \
                                  double *nodes, int capacity)                                        \

@@ -78,6 +78,8 @@ typedef struct poly_overlap_result {
   int smoothed;           /* 1 when flush faces made area and normal the mean of two shifted evaluations */
   double second_moment[6];/* of the overlap's volume about its centroid, world frame (xx yy zz xy xz yz); only
                              when the workspace's want_second_moment is set (the contact law's rocking damping) */
+  int separating;         /* filtered out by a supporting triangle of either shape (poly_shape's support): its code,
+                             for poly_overlap_still_separated at the next step; else -1 */
 } poly_overlap_result;
 
 #define POLY_OVERLAP_DECLARE(REAL, SUFFIX)                                                            \
@@ -175,6 +177,16 @@ void poly_overlap_f(const poly_shape_view_f *a, const poly_pose *pose_a, const p
                     const poly_pose *pose_b, poly_overlap_workspace_f *ws, poly_overlap_result *result);
 void poly_overlap_m(const poly_shape_view_m *a, const poly_pose *pose_a, const poly_shape_view_m *b,
                     const poly_pose *pose_b, poly_overlap_workspace_m *ws, poly_overlap_result *result);
+
+/* Whether the pair is still parted by the supporting triangle that parted it before (`separating`, a result's
+ * code from these shapes in this order): 1 when the other body lies wholly in front of that triangle's plane
+ * (by 1e-12 of their size; in single precision by more than the normals' rounding), so there is no overlap;
+ * 0 otherwise, or for a code that fits neither shape. Costs one plane against one body's vertices, so a pair
+ * that stays apart from step to step is rejected without the narrow phase. */
+int poly_overlap_still_separated_d(const poly_shape_view_d *a, const poly_pose *pose_a, const poly_shape_view_d *b,
+                                   const poly_pose *pose_b, int separating);
+int poly_overlap_still_separated_f(const poly_shape_view_f *a, const poly_pose *pose_a, const poly_shape_view_f *b,
+                                   const poly_pose *pose_b, int separating);
 
 /* The nodes of the last overlap computed with ws (by poly_overlap_d, A at pose_a; _f: by poly_overlap_f or _m):
  * world frame, relative to A's position. Writes at most `capacity` nodes (3 doubles each) and returns how many

@@ -332,6 +332,8 @@ POLY_INLINE int POLY_FN(blocks_path)(const POLY_FN(shape_view) *a, const R *va, 
                                      const R *vb, const double *rotation, R tolerance, POLY_FN(overlap_workspace) *ws,
                                      POLY_FN(pass) *out)
 {
+  /* A separating face is named as support_separated names it: a convex shape's support list is all its
+   * triangles, in order. */
   int *faces_a = ws->faces_a, *faces_b = ws->faces_b;
   int num_faces_a = POLY_FN(block_faces)(a, faces_a, ws->face_column_a);
   int num_faces_b = POLY_FN(block_faces)(b, faces_b, ws->face_column_b);
@@ -352,10 +354,16 @@ POLY_INLINE int POLY_FN(blocks_path)(const POLY_FN(shape_view) *a, const R *va, 
   unsigned long long all_a = ~0ull, all_b = ~0ull;
   POLY_FN(block_sides)(a, va, 0, b, vb, ws->planes_b, faces_b, num_faces_b, stride_a, sides_a, masks_a);
   for (int i = 0; i < a->num_vertices; i++) all_a &= masks_a[i];
-  if (all_a) return 1;
+  if (all_a) {
+    out->separating = 2 * faces_b[__builtin_ctzll(all_a)] + 1;
+    return 1;
+  }
   POLY_FN(block_sides)(b, vb, 1, a, va, ws->planes_a, faces_a, num_faces_a, stride_b, sides_b, masks_b);
   for (int j = 0; j < b->num_vertices; j++) all_b &= masks_b[j];
-  if (all_b) return 1;
+  if (all_b) {
+    out->separating = 2 * faces_a[__builtin_ctzll(all_b)];
+    return 1;
+  }
   if (tolerance > 0) {
     unsigned long long near_b = POLY_FN(block_near_faces)(sides_a, stride_a, a->num_vertices, num_faces_b,
                                                           ws->planes_b, faces_b, 2 * tolerance);

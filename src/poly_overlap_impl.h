@@ -492,6 +492,7 @@ typedef struct POLY_FN(pass) {
   int num_points, num_inconsistent, filtered_out;
   int num_kept_a, num_kept_b;
   int flush;            /* a kept face of A and one of B lie in one plane to within the smoothing tolerance */
+  int separating;       /* filtered out by a supporting triangle: its code (support_separated); else -1 */
 } POLY_FN(pass);
 
 /* Length of the finite shift of the flush-face smoothing (see overlap_local),
@@ -554,6 +555,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   out->acc = empty;
   out->acc.want_second = ws->want_second_moment && keep_points;
   out->num_points = out->num_inconsistent = out->filtered_out = out->flush = 0;
+  out->separating = -1;
   out->num_kept_a = out->num_kept_b = 0;
   int capacity_points = ws->capacity_points;
 
@@ -564,7 +566,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
 #if POLY_OVERLAP_RECORDS
   if (!separated && use_filter && !(a->face_of && b->face_of) && a->support && b->support)
-    separated = POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b);
+    separated = POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b,
+                                           &out->separating);
 #endif
   if (separated && use_filter) {
     out->filtered_out = 1;

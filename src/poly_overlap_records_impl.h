@@ -504,56 +504,93 @@ POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va,
   return 0;
 }
 
+/* The gap a supporting triangle's plane must leave to part two bodies: 1e-12
+ * of their size (as overlap_slab) and, in single precision, more than the
+ * rounding of the stored unit normals (about 6e-8), by which a body could
+ * stand in front of its own triangle's plane so rounded. */
+POLY_INLINE double POLY_FN(support_reach)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b)
+{
+  return (1e-12 + 64.0 * (double)POLY_FN(epsilon)()) * ((double)a->bounding_radius + (double)b->bounding_radius);
+}
+
+/* Does the `of_b`-th body's supporting triangle number m (of its support
+ * list) part the bodies: the other body wholly in front of its plane by more
+ * than `reach`? 1: yes; 0: no; -1: skipped, its normal being less than
+ * `facing` along the centre line `axis` towards the other body. `start`: a
+ * vertex of the other body to try first. */
+POLY_INLINE int POLY_FN(support_parts)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                       const double *rotation, const double *translation, int of_b, int m,
+                                       double reach, const double *axis, double facing, int start)
+{
+  const POLY_FN(shape_view) *faced = of_b ? b : a, *other = of_b ? a : b;
+  int t = faced->support[m];
+  const R *n = faced->face_normals + 3 * t, *corner = faced->vertices + 3 * faced->triangles[3 * t];
+  double normal[3], height;
+  if (of_b) {
+    /* B's triangle turned into A's frame, against A's vertices. */
+    double x[3];
+    for (int k = 0; k < 3; k++) normal[k] = rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2];
+    if (-(normal[0] * axis[0] + normal[1] * axis[1] + normal[2] * axis[2]) < facing) return -1;
+    for (int k = 0; k < 3; k++)
+      x[k] = rotation[3 * k] * corner[0] + rotation[3 * k + 1] * corner[1] + rotation[3 * k + 2] * corner[2] +
+             translation[k];
+    height = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
+  } else {
+    if ((double)n[0] * axis[0] + (double)n[1] * axis[1] + (double)n[2] * axis[2] < facing) return -1;
+    /* Against B's vertices R v + T: n . (R v + T) = (R^T n) . v + n . T. */
+    for (int k = 0; k < 3; k++)
+      normal[k] = rotation[k] * (double)n[0] + rotation[3 + k] * (double)n[1] + rotation[6 + k] * (double)n[2];
+    height = (double)n[0] * corner[0] + (double)n[1] * corner[1] + (double)n[2] * corner[2] -
+             ((double)n[0] * translation[0] + (double)n[1] * translation[1] + (double)n[2] * translation[2]);
+  }
+  double lowest = 1e300;
+  for (int v = -1; v < other->num_vertices && lowest - height > reach; v++) {
+    const R *x = other->vertices + 3 * (v < 0 ? start : v);
+    double along = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
+    if (along < lowest) lowest = along;
+  }
+  return lowest - height > reach;
+}
+
 /* A separating plane among the supporting triangles of the two shapes (each
  * has every vertex of its shape on or behind its plane): is either body wholly
- * in front of one, by more than 1e-12 of their size (as overlap_slab)? For
- * pairs the centre line's slab does not part, before anything else: in a pile
- * of rock_40 more such pairs had no overlap than had one, and each cost the
- * whole general path to find a volume of 0. Only triangles facing the other
- * body are tried (normal within 32 degrees of the centre line, towards it),
- * each against the other body's vertices until one is behind: a filter, which
- * may miss a separation the general path then finds. `extreme_a`, `extreme_b`:
- * the vertices of overlap_slab_extremes. */
+ * in front of one (support_reach)? For pairs the centre line's slab does not
+ * part, before anything else: in a pile of rock_40 more such pairs had no
+ * overlap than had one, and each cost the whole general path to find a volume
+ * of 0. Only triangles facing the other body are tried (normal within 32
+ * degrees of the centre line, towards it), each against the other body's
+ * vertices until one is behind, starting from its vertex deepest along the
+ * centre line (`extreme_a`, `extreme_b`: overlap_slab_extremes'; when the
+ * bodies touch, mostly behind the triangle): a filter, which may miss a
+ * separation the general path then finds. Sets *separating to the triangle's
+ * code (2 m + of_b, m its place in the support list) when it parts them. */
 POLY_INLINE int POLY_FN(support_separated)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
                                            const double *rotation, const double *translation, const double *axis,
-                                           int extreme_a, int extreme_b)
+                                           int extreme_a, int extreme_b, int *separating)
 {
   const double facing = 0.85; /* cos 32 degrees */
-  double reach = 1e-12 * ((double)a->bounding_radius + (double)b->bounding_radius);
-  for (int pass = 0; pass < 2; pass++) {
-    /* pass 0: triangles of B (turned into A's frame) against A's vertices; 1: of A against B's. */
-    const POLY_FN(shape_view) *faced = pass ? a : b, *other = pass ? b : a;
-    for (int m = 0; m < faced->num_support; m++) {
-      int t = faced->support[m];
-      const R *n = faced->face_normals + 3 * t, *corner = faced->vertices + 3 * faced->triangles[3 * t];
-      double normal[3], height;
-      if (!pass) {
-        double x[3];
-        for (int k = 0; k < 3; k++)
-          normal[k] = rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2];
-        if (-(normal[0] * axis[0] + normal[1] * axis[1] + normal[2] * axis[2]) < facing) continue;
-        for (int k = 0; k < 3; k++)
-          x[k] = rotation[3 * k] * corner[0] + rotation[3 * k + 1] * corner[1] + rotation[3 * k + 2] * corner[2] +
-                 translation[k];
-        height = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
-      } else {
-        if ((double)n[0] * axis[0] + (double)n[1] * axis[1] + (double)n[2] * axis[2] < facing) continue;
-        /* B's vertices are R v + T: n . (R v + T) = (R^T n) . v + n . T. */
-        for (int k = 0; k < 3; k++)
-          normal[k] = rotation[k] * (double)n[0] + rotation[3 + k] * (double)n[1] + rotation[6 + k] * (double)n[2];
-        height = (double)n[0] * corner[0] + (double)n[1] * corner[1] + (double)n[2] * corner[2] -
-                 ((double)n[0] * translation[0] + (double)n[1] * translation[1] + (double)n[2] * translation[2]);
+  double reach = POLY_FN(support_reach)(a, b);
+  for (int of_b = 1; of_b >= 0; of_b--) {
+    const POLY_FN(shape_view) *faced = of_b ? b : a;
+    for (int m = 0; m < faced->num_support; m++)
+      if (POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, reach, axis, facing,
+                                 of_b ? extreme_a : extreme_b) == 1) {
+        *separating = 2 * m + of_b;
+        return 1;
       }
-      /* Starting from the other body's vertex deepest along the centre line: when the bodies touch, mostly
-       * behind the triangle, and the loop ends there. */
-      double lowest = 1e300;
-      for (int v = -1; v < other->num_vertices && lowest - height > reach; v++) {
-        const R *x = other->vertices + 3 * (v < 0 ? (pass ? extreme_b : extreme_a) : v);
-        double along = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
-        if (along < lowest) lowest = along;
-      }
-      if (lowest - height > reach) return 1;
-    }
   }
   return 0;
+}
+
+/* Does the supporting triangle of code `separating` (a result's, from these
+ * shapes in this order) still part the bodies? Any code is safe to try: one
+ * out of range, or a triangle that no longer parts them, gives 0. */
+POLY_INLINE int POLY_FN(still_separated)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                         const double *rotation, const double *translation, int separating)
+{
+  int of_b = separating & 1, m = separating >> 1;
+  const POLY_FN(shape_view) *faced = of_b ? b : a;
+  if (separating < 0 || !faced->support || m >= faced->num_support) return 0;
+  const double axis[3] = {0.0, 0.0, 0.0};
+  return POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, POLY_FN(support_reach)(a, b), axis, -1.0, 0) == 1;
 }

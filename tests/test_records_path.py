@@ -61,8 +61,10 @@ def test_records_path_gives_the_reference_bits(driver, shape, precision):
     for quantity in QUANTITIES:
         assert values[quantity] == 0.0, f"{quantity} differs by {values[quantity]:g}\n{log}"
     assert values["flag_differences"] == 0, log
-    # What the filters reject (the slab, the supporting triangles) has no overlap without them.
+    # What the filters reject (the slab, the supporting triangles, and a supporting triangle named by a code
+    # as the pair style's hint from the step before) has no overlap without them.
     assert values["filtered"] >= 20, "too few rejected poses to test the filters"
+    assert values["hinted"] >= 5, "too few poses parted by a code to test poly_overlap_still_separated"
     assert values["wrongly_filtered"] == 0, log
 
 

@@ -123,7 +123,7 @@ int main(int argc, char **argv)
 
   double size = 2.0 * shape.bounding_radius, volume_scale = size * size * size;
   double worst_volume = 0, worst_centroid = 0, worst_normal = 0, worst_area = 0, worst_depth = 0, worst_second = 0;
-  int flag_differences = 0, overlapping = 0, smoothed = 0, filtered = 0, wrongly_filtered = 0;
+  int flag_differences = 0, overlapping = 0, smoothed = 0, filtered = 0, wrongly_filtered = 0, hinted = 0;
   for (int p = 0; p < num_poses; p++) {
     poly_pose a = {{0, 0, 0}, {1, 0, 0, 0}}, b = {{0, 0, 0}, {1, 0, 0, 0}};
     if (p % 8 == 5) {
@@ -166,9 +166,19 @@ int main(int argc, char **argv)
                 reference.recomputed, fast.num_inconsistent, reference.num_inconsistent, fast.num_nodes,
                 reference.num_nodes, fast.volume, reference.volume);
     }
-    /* A pair rejected before the sums (the slab, the supporting triangles, the blocks' faces) must have no
-     * overlap: evaluated without the filter (every triangle, no early exit), its volume is round-off. */
-    if (fast.filtered_out) {
+    /* A pair rejected before the sums (the slab, the supporting triangles, the blocks' faces), or by any
+     * supporting triangle's code of poly_overlap_still_separated (the pair style's hint from the step
+     * before), must have no overlap: evaluated without the filter (every triangle, no early exit), its
+     * volume is round-off. */
+    int parted = fast.filtered_out, codes = 2 * (shape.num_support > 32 ? 32 : shape.num_support), by_code = 0;
+    for (int code = -1; code < codes && !by_code; code++) {
+      int tried = code < 0 ? fast.separating : code;
+      by_code = precision == POLY_PRECISION_DOUBLE ? poly_overlap_still_separated_d(&view_d, &a, &view_d, &b, tried)
+                                                   : poly_overlap_still_separated_f(&view_f, &a, &view_f, &b, tried);
+    }
+    hinted += by_code;
+    parted |= by_code;
+    if (parted) {
       filtered++;
       ws_d.use_filter = ws_f.use_filter = 0;
       poly_overlap_result unfiltered;
@@ -176,7 +186,8 @@ int main(int argc, char **argv)
       ws_d.use_filter = ws_f.use_filter = 1;
       if (unfiltered.volume > 1e-12 * volume_scale) {
         wrongly_filtered++;
-        fprintf(stderr, "pose %d: filtered, but the volume without the filter is %.17g\n", p, unfiltered.volume);
+        fprintf(stderr, "pose %d: parted (filtered %d), but the volume without the filter is %.17g\n", p,
+                fast.filtered_out, unfiltered.volume);
       }
     }
     overlapping += reference.volume > 0;
@@ -209,7 +220,7 @@ int main(int argc, char **argv)
          precision == POLY_PRECISION_DOUBLE ? ws_d.convex_fallbacks : ws_f.convex_fallbacks);
   printf("volume %.3e\ncentroid %.3e\nnormal %.3e\narea %.3e\ndepth %.3e\nsecond_moment %.3e\nflag_differences %d\n",
          worst_volume, worst_centroid, worst_normal, worst_area, worst_depth, worst_second, flag_differences);
-  printf("filtered %d\nwrongly_filtered %d\n", filtered, wrongly_filtered);
+  printf("filtered %d\nwrongly_filtered %d\nhinted %d\n", filtered, wrongly_filtered, hinted);
   poly_overlap_workspace_destroy_d(&ws_d);
   poly_overlap_workspace_destroy_f(&ws_f);
   poly_shape_view_free_f(&view_f);
