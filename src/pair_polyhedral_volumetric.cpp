@@ -573,5 +573,6 @@ double PairPolyhedralVolumetric::memory_usage()
 {
   double bytes = Pair::memory_usage();
   bytes += (double) records.capacity() * sizeof(PolyContactRecord);
+  bytes += (double) (separating_hint.capacity() + hint_offset.capacity()) * sizeof(int);
   return bytes;
 }
