@@ -327,7 +327,8 @@ POLY_INLINE int POLY_FN(blocks_fit)(const POLY_FN(shape_view) *a, const POLY_FN(
 
 /* The blocks path of one pass, on the vertices in the local frame (va, vb):
  * 0 with the sums and nodes in *out, 1 when a face separates the bodies, -1
- * where the general path must decide (see the top of this file). */
+ * where the general path must decide (see the top of this file), -2 for
+ * shapes of more than POLY_BLOCK_MAX faces (the convex path takes them). */
 POLY_INLINE int POLY_FN(blocks_path)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
                                      const R *vb, const double *rotation, R tolerance, POLY_FN(overlap_workspace) *ws,
                                      POLY_FN(pass) *out)
@@ -337,7 +338,7 @@ POLY_INLINE int POLY_FN(blocks_path)(const POLY_FN(shape_view) *a, const R *va, 
   int *faces_a = ws->faces_a, *faces_b = ws->faces_b;
   int num_faces_a = POLY_FN(block_faces)(a, faces_a, ws->face_column_a);
   int num_faces_b = POLY_FN(block_faces)(b, faces_b, ws->face_column_b);
-  if (num_faces_a < 0 || num_faces_b < 0) return -1;
+  if (num_faces_a < 0 || num_faces_b < 0) return -2; /* more faces than a mask holds: the convex path's */
   for (int c = 0; c < num_faces_a; c++) {
     int f = faces_a[c];
     POLY_FN(block_plane)(va, a->triangles + 3 * f, ws->planes_a + 4 * f);

@@ -622,8 +622,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
       ws->capacity_points = capacity_points;
       return;
     }
-    ws->convex_fallbacks++;
-    blocks_failed = 1;
+    blocks_failed = status == -1;
+    ws->convex_fallbacks += blocks_failed;
   }
 #endif
 
