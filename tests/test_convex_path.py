@@ -1,11 +1,15 @@
-"""The convex path of the overlap (src/poly_overlap_convex_impl.h) against the general path.
+"""The convex and blocks paths of the overlap (src/poly_overlap_convex_impl.h, src/poly_overlap_blocks_impl.h)
+against the general path.
 
-Shapes found convex when built (poly_shape_find_faces) take the convex path: the vertices' sides of the other
+Shapes found convex when built (poly_shape_find_faces) take the convex path (icosphere_80), or the blocks path
+when they have at most 64 faces and vertices (cube, box, tetrahedron: the same clipping from a table of every
+vertex against every face, with face masks, and no half-space filter): the vertices' sides of the other
 body's faces in one table, each ridge clipped by those faces, the crossings turned into the general path's
 records and summed by the same code. Different arithmetic (whole faces, no crossing tests against triangle
 edges), so not the same bits: tests/unit/records_paths.c `convex` compares it with the general records path
-(ws.use_convex = 0) on random poses from deep to grazing and on degenerate ones (flush faces, touching
-vertices and edges, identical bodies), in double, single and mixed precision. Stated tolerances, relative to
+(ws.use_convex = 0) on random poses from deep to grazing, resting ones (a face on a face, slightly tilted,
+1e-4 to 1e-2 of the size deep) and degenerate ones (flush faces, touching vertices and edges, identical
+bodies), in double, single and mixed precision. Stated tolerances, relative to
 the particle size (volume, centroid, area and second moment weighted by the overlap's share of the particle
 volume, so a tiny overlap's relative error does not swamp them; normal and depth where the normal is
 well-conditioned, the area vector at least a tenth of the area): double 1e-13, single and mixed 1e-5 for the

@@ -8,7 +8,10 @@ the same bits: volume, centroid, normal, area, depth, second moment and the flag
 faces, re-evaluated, inconsistent, node count), for random poses from deep to grazing and degenerate ones
 (flush faces, touching vertices and edges, identical bodies), in double, single and mixed precision
 (tests/unit/records_paths.c). With the records' capacity cut to 2, every overlapping pass must fall back
-to the reference path, and still give the same bits.
+to the reference path, and still give the same bits. Every pose a filter rejects before the sums (the
+centre line's slab, the supporting triangles, the blocks' face masks) or that a supporting triangle's code
+of poly_overlap_still_separated declares apart (the pair style's hint from the step before) must have no
+volume when evaluated without any filter.
 
 Run with Debian's python3:  /usr/bin/python3 -m pytest tests/test_records_path.py -q
 """
