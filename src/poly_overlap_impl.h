@@ -560,9 +560,13 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   int capacity_points = ws->capacity_points;
 
   double axis_d[3], extent_a, extent_b;
+#if POLY_OVERLAP_RECORDS
   int extreme_a = 0, extreme_b = 0;
   int separated = POLY_FN(overlap_slab_extremes)(a, b, rotation, translation, axis_d, &extent_a, &extent_b,
                                                  &extreme_a, &extreme_b);
+#else
+  int separated = POLY_FN(overlap_slab)(a, b, rotation, translation, axis_d, &extent_a, &extent_b);
+#endif
   for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
 #if POLY_OVERLAP_RECORDS
   if (!separated && use_filter && !(a->face_of && b->face_of) && a->support && b->support)
@@ -613,8 +617,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   }
 
   /* Small convex shapes: the blocks path needs no filter. */
-  int blocks_failed = 0;
 #if POLY_OVERLAP_RECORDS
+  int blocks_failed = 0;
   if (use_filter && ws->use_records && ws->use_convex && POLY_FN(blocks_fit)(a, b, ws)) {
     int status = POLY_FN(blocks_path)(a, va, b, vb, rotation, tolerance, ws, out);
     if (status >= 0) {
@@ -689,6 +693,9 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   /* The sums by the cheapest path that can decide them: convex shapes' face
    * table, the crossing records, or the reference path. */
   int done = 0;
+#if POLY_OVERLAP_RECORDS
+  /* Not compiled for the GPU, which never takes them: their frames and registers would weigh on its one
+   * kernel (its double-precision throughput fell by 30 % when they grew). */
   if (ws->use_records && ws->use_convex && use_filter && a->face_of && b->face_of && !blocks_failed) {
     done = POLY_FN(convex_path)(a, va, b, vb, rotation, &f, ws, out) == 0;
     if (!done) ws->convex_fallbacks++;
@@ -697,6 +704,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     done = POLY_FN(records_path)(a, va, b, vb, &f, ws, out) == 0;
     if (!done) ws->records_overflows++;
   }
+#endif
   if (!done) POLY_FN(reference_path)(a, va, b, vb, &f, ws, out);
   out->num_kept_a = num_kept_a;
   out->num_kept_b = num_kept_b;
