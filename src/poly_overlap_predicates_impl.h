@@ -66,33 +66,37 @@ POLY_INLINE int POLY_FN(side_sign)(R side, int point_in_b, const R *vertices, co
   return POLY_FN(perturbed_sign)(0, (R)((point_in_b ? 1 : -1) * poly_overlap_det_sign(high, low)));
 }
 
+/* The sign an exactly zero edge orientation (p0 -> p1 against the edge
+ * q0 -> q1) takes under the perturbation u of B: the exact sign of
+ * det(p1 - p0, u, q1 - q0), turned for a segment of B. For a segment nearly
+ * parallel to the edge a rounded value would be noise. */
+POLY_INLINE R POLY_FN(edge_tie_break)(const R *p0, const R *p1, const R *q0, const R *q1, int segment_in_b)
+{
+  R u[3];
+  POLY_FN(perturbation)(u);
+  double pp0[3], pp1[3], qq0[3], qq1[3], ud[3];
+  POLY_FN(to_double)(p0, pp0);
+  POLY_FN(to_double)(p1, pp1);
+  POLY_FN(to_double)(q0, qq0);
+  POLY_FN(to_double)(q1, qq1);
+  POLY_FN(to_double)(u, ud);
+  const double *high[3] = {pp1, ud, qq1}, *low[3] = {pp0, 0, qq0};
+  return (R)((segment_in_b ? -1 : 1) * poly_overlap_det_sign(high, low));
+}
+
 /* The second half of segment_crosses_triangle: whether the segment p0 -> p1,
  * whose ends lie on opposite sides of the plane of `tri` (plane_side values
  * side0, side1; perturbed side of p0 sign0), crosses it inside the triangle. */
 POLY_INLINE int POLY_FN(crossing_in_triangle)(const R *p0, const R *p1, int segment_in_b, const R *vertices,
                                               const int *tri, R side0, R side1, int sign0, R *lambda)
 {
-  R u[3];
-  POLY_FN(perturbation)(u);
   int common = 0;
   for (int k = 0; k < 3; k++) {
     int from = tri[k], to = tri[k == 2 ? 0 : k + 1];
     int low = from < to ? from : to, high = from < to ? to : from;
     const R *q0 = vertices + 3 * low, *q1 = vertices + 3 * high;
     R orientation = POLY_FN(edge_side)(p0, p1, q0, q1);
-    R first_order = 0;
-    if (orientation == 0) {
-      /* Exact tie-break det(p1-p0, u, q1-q0): for a segment nearly parallel to
-       * the edge the rounded value is noise. */
-      double pp0[3], pp1[3], qq0[3], qq1[3], ud[3];
-      POLY_FN(to_double)(p0, pp0);
-      POLY_FN(to_double)(p1, pp1);
-      POLY_FN(to_double)(q0, qq0);
-      POLY_FN(to_double)(q1, qq1);
-      POLY_FN(to_double)(u, ud);
-      const double *high[3] = {pp1, ud, qq1}, *low[3] = {pp0, 0, qq0};
-      first_order = (R)((segment_in_b ? -1 : 1) * poly_overlap_det_sign(high, low));
-    }
+    R first_order = orientation == 0 ? POLY_FN(edge_tie_break)(p0, p1, q0, q1, segment_in_b) : 0;
     int sign = POLY_FN(perturbed_sign)(orientation, first_order) * (from < to ? 1 : -1);
     if (k == 0) common = sign;
     else if (sign != common) return 0;

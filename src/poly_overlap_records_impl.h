@@ -147,20 +147,9 @@ POLY_INLINE int POLY_FN(records_crossing_in_triangle)(const R *p0, const R *p1, 
     R orientation = POLY_FN(det)(direction, corner[low], corner[high]);
     R bound = scale * size[low] * size[high];
     if (!(orientation > bound || -orientation > bound)) {
-      orientation = POLY_FN(edge_side)(p0, p1, vertices + 3 * tri[low], vertices + 3 * tri[high]);
-      if (orientation == 0) {
-        /* The exact tie-break of crossing_in_triangle. */
-        R u[3];
-        POLY_FN(perturbation)(u);
-        double pp0[3], pp1[3], qq0[3], qq1[3], ud[3];
-        POLY_FN(to_double)(p0, pp0);
-        POLY_FN(to_double)(p1, pp1);
-        POLY_FN(to_double)(vertices + 3 * tri[low], qq0);
-        POLY_FN(to_double)(vertices + 3 * tri[high], qq1);
-        POLY_FN(to_double)(u, ud);
-        const double *high_rows[3] = {pp1, ud, qq1}, *low_rows[3] = {pp0, 0, qq0};
-        orientation = (R)((segment_in_b ? -1 : 1) * poly_overlap_det_sign(high_rows, low_rows));
-      }
+      const R *q0 = vertices + 3 * tri[low], *q1 = vertices + 3 * tri[high];
+      orientation = POLY_FN(edge_side)(p0, p1, q0, q1);
+      if (orientation == 0) orientation = POLY_FN(edge_tie_break)(p0, p1, q0, q1, segment_in_b);
     }
     int sign = (orientation > 0 ? 1 : -1) * (from < to ? 1 : -1);
     if (k == 0) common = sign;
