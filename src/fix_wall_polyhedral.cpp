@@ -503,7 +503,8 @@ void FixWallPolyhedral::primitive_overlap(int i, poly_overlap_result *geometry)
   double normal[3] = {0.0, 0.0, 0.0};
   normal[axis] = side;
   poly_quat_to_matrix(atom->quaternion[i], rotation);
-  poly_halfspace_overlap(&pair->shape_view(shapetype), rotation, x, normal, side * position, geometry);
+  poly_halfspace_overlap(&pair->shape_view(shapetype), rotation, x, normal, side * position, use_rocking,
+                         geometry);
 }
 
 void FixWallPolyhedral::apply_primitive(bool advance_history)

@@ -214,7 +214,9 @@ void PairPolyhedralVolumetric::material_table(LAMMPS *lmp, const char *caller, b
                                                     "coefficientFriction", "property/global", "peratomtypepair", n, n, caller))
                                               : NULL;
   table.assign((n + 1) * (n + 1), poly_material_pair());
-  std::map<double, double> beta_of_restitution;
+  // Kept for the process: every run command and every wall fix calls this, and one beta (a bisection
+  // over integrated impacts) took as long as a few hundred steps of a small pile.
+  static std::map<double, double> beta_of_restitution;
   for (int i = 1; i <= n; i++) {
     double youngs_i = youngs->compute_vector(i - 1), poisson_i = poisson->compute_vector(i - 1);
     if (!(youngs_i > 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: youngsModulus must be > 0");

@@ -190,7 +190,7 @@ void shim_halfspace(const void *a, const double *pose, const double *normal, dou
   double rotation[9];
   poly_quat_to_matrix(pose + 3, rotation);
   poly_overlap_result r;
-  poly_halfspace_overlap(&((const shim_shape *)a)->view_d, rotation, pose, normal, offset, &r);
+  poly_halfspace_overlap(&((const shim_shape *)a)->view_d, rotation, pose, normal, offset, 1, &r);
   shim_write_result(&r, out);
 }
 """
