@@ -22,6 +22,7 @@
  * per-thread blocks of a scratch buffer in global memory. */
 #include "poly_gpu.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include <vector>
@@ -37,6 +38,13 @@ struct PairForce {
   double force_j[3], torque_i[3], torque_j[3];
 };
 
+// The warp kernel's limits: the largest counts of the shapes whose own warp
+// block fits kWarpBytesLimit (pairs of larger shapes go to the one-thread
+// kernel), its records, and the bytes of a block for them (0: no shape fits).
+struct WarpLimits {
+  int vertices, triangles, edges, records, bytes;
+};
+
 struct State {
   bool ready;
   DeviceShapes shapes;
@@ -47,7 +55,11 @@ struct State {
   DeviceArray<double> history;
   DeviceArray<int> contact;
   DeviceArray<int> touching;        // compact list of pairs whose bounding spheres overlap
-  DeviceArray<int> counters;        // [0] touching pairs, [1] contacts
+  DeviceArray<int> counters;        // [0] touching pairs, [1] contacts, [2] pairs the warp kernel handed back
+  DeviceArray<int> handed_back;     // those pairs
+  int kernel_choice;                // POLY_GPU_PAIR_KERNEL: 0 auto, 1 thread, 2 warp
+  bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
+  std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
   DeviceArray<poly_gpu_result> results;
   DeviceArray<int> csr_offsets, csr_entries;  // per force particle: 2 * pair + (0: as i, 1: as j)
@@ -106,39 +118,16 @@ __global__ void __launch_bounds__(kThreads)
   if (take) touching[base + __popc(ballot & ((1u << lane) - 1u))] = p;
 }
 
-template <int Precision, size_t LocalBytes>
-__global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
-    contact_kernel(DeviceShapes shapes, const int *__restrict__ touching, int first, int count,
-                   const int *__restrict__ pair_i, const int *__restrict__ pair_j,
-                   const poly_gpu_particle *__restrict__ particles, const poly_gpu_motion *__restrict__ motion,
-                   const poly_material_pair *__restrict__ materials, int num_types, poly_gpu_settings settings,
-                   int *__restrict__ contact, double *__restrict__ history, PairForce *__restrict__ pair_force,
-                   poly_gpu_result *__restrict__ results, int *__restrict__ counters, char *__restrict__ scratch,
-                   size_t bytes_per_thread)
+// The contact law for pair p from its overlap (in i's local frame), and what
+// the reduction and the host read: the one end of both contact kernels.
+__device__ void finish_pair(int p, const poly_gpu_particle &body_i, const poly_gpu_particle &body_j,
+                            const poly_gpu_motion &state_i, const poly_gpu_motion &state_j, const double *rotation_i,
+                            const poly_overlap_result &geometry, const double *local_centroid,
+                            const double *local_normal, const poly_material_pair *__restrict__ materials,
+                            int num_types, const poly_gpu_settings &settings, int *__restrict__ contact,
+                            double *__restrict__ history, PairForce *__restrict__ pair_force,
+                            poly_gpu_result *__restrict__ results, int *__restrict__ counters)
 {
-  typedef Narrow<Precision> N;
-  int local = blockIdx.x * blockDim.x + threadIdx.x;
-  if (local >= count) return;
-  int p = touching[first + local];
-  int i = pair_i[p], j = pair_j[p];
-  const poly_gpu_particle &body_i = particles[i], &body_j = particles[j];
-  const poly_gpu_motion &state_i = motion[i], &state_j = motion[j];
-
-  // The relative pose, as poly_overlap_d/f/m compute it on the host.
-  double rotation_i[9], rotation[9], translation[3];
-  poly_overlap_relative_pose(state_i.position, state_i.quaternion, state_j.position, state_j.quaternion, rotation_i,
-                             rotation, translation);
-
-  poly_overlap_result geometry;
-  double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
-  {
-    WorkspaceMemory<LocalBytes> memory;
-    typename N::Workspace ws;
-    N::layout(&ws, memory.get(scratch, local, bytes_per_thread), shapes.max_vertices, shapes.max_triangles);
-    ws.want_second_moment = settings.rocking;
-    typename N::View a = N::view(shapes, body_i.shape), b = N::view(shapes, body_j.shape);
-    N::overlap(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
-  }
   double *pair_history = history + POLY_HISTORY_SIZE * p;
   double negligible = body_i.negligible_volume < body_j.negligible_volume ? body_i.negligible_volume
                                                                           : body_j.negligible_volume;
@@ -196,6 +185,91 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
   }
 }
 
+// One thread per pair of `list`: the whole of overlap_local, for the pairs the
+// warp kernel hands back and for shapes too large for its shared memory.
+template <int Precision, size_t LocalBytes>
+__global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
+    contact_kernel(DeviceShapes shapes, const int *__restrict__ list, int first, int count,
+                   const int *__restrict__ pair_i, const int *__restrict__ pair_j,
+                   const poly_gpu_particle *__restrict__ particles, const poly_gpu_motion *__restrict__ motion,
+                   const poly_material_pair *__restrict__ materials, int num_types, poly_gpu_settings settings,
+                   int *__restrict__ contact, double *__restrict__ history, PairForce *__restrict__ pair_force,
+                   poly_gpu_result *__restrict__ results, int *__restrict__ counters, char *__restrict__ scratch,
+                   size_t bytes_per_thread)
+{
+  typedef Narrow<Precision> N;
+  int local = blockIdx.x * blockDim.x + threadIdx.x;
+  if (local >= count) return;
+  int p = list[first + local];
+  int i = pair_i[p], j = pair_j[p];
+  const poly_gpu_particle &body_i = particles[i], &body_j = particles[j];
+  const poly_gpu_motion &state_i = motion[i], &state_j = motion[j];
+
+  // The relative pose, as poly_overlap_d/f/m compute it on the host.
+  double rotation_i[9], rotation[9], translation[3];
+  poly_overlap_relative_pose(state_i.position, state_i.quaternion, state_j.position, state_j.quaternion, rotation_i,
+                             rotation, translation);
+
+  poly_overlap_result geometry;
+  double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
+  {
+    WorkspaceMemory<LocalBytes> memory;
+    typename N::Workspace ws;
+    N::layout(&ws, memory.get(scratch, local, bytes_per_thread), shapes.max_vertices, shapes.max_triangles);
+    ws.want_second_moment = settings.rocking;
+    typename N::View a = N::view(shapes, body_i.shape), b = N::view(shapes, body_j.shape);
+    N::overlap(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
+  }
+  finish_pair(p, body_i, body_j, state_i, state_j, rotation_i, geometry, local_centroid, local_normal, materials,
+              num_types, settings, contact, history, pair_force, results, counters);
+}
+
+// One warp per pair of `list` (poly_gpu_warp_impl.cuh), each warp with its
+// block of limits.bytes of shared memory; pairs it cannot finish, and pairs of
+// shapes beyond the limits, go to `handed_back` (counted in counters[2]) for
+// contact_kernel.
+template <int Precision>
+__global__ void __launch_bounds__(kThreads)
+    warp_contact_kernel(DeviceShapes shapes, const int *__restrict__ list, int count, const int *__restrict__ pair_i,
+                        const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
+                        const poly_gpu_motion *__restrict__ motion, const poly_material_pair *__restrict__ materials,
+                        int num_types, poly_gpu_settings settings, int *__restrict__ contact,
+                        double *__restrict__ history, PairForce *__restrict__ pair_force,
+                        poly_gpu_result *__restrict__ results, int *__restrict__ counters,
+                        int *__restrict__ handed_back, WarpLimits limits)
+{
+  typedef Narrow<Precision> N;
+  extern __shared__ double warp_blocks[];
+  const int warps = blockDim.x >> 5, warp = threadIdx.x >> 5;
+  int local = blockIdx.x * warps + warp;
+  if (local >= count) return;  // the whole warp
+  typename N::WarpMemory memory;
+  N::warp_layout(&memory, (char *)warp_blocks + (size_t)warp * limits.bytes, limits.vertices, limits.triangles,
+                 limits.edges, limits.records);
+  int p = list[local];
+  int i = pair_i[p], j = pair_j[p];
+  const poly_gpu_particle &body_i = particles[i], &body_j = particles[j];
+  const poly_gpu_motion &state_i = motion[i], &state_j = motion[j];
+  double rotation_i[9], rotation[9], translation[3];
+  poly_overlap_relative_pose(state_i.position, state_i.quaternion, state_j.position, state_j.quaternion, rotation_i,
+                             rotation, translation);
+  poly_overlap_result geometry;
+  double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
+  typename N::View a = N::view(shapes, body_i.shape), b = N::view(shapes, body_j.shape);
+  int handed = a.num_vertices > limits.vertices || a.num_triangles > limits.triangles || a.num_edges > limits.edges ||
+               b.num_vertices > limits.vertices || b.num_triangles > limits.triangles || b.num_edges > limits.edges;
+  if (!handed)
+    handed = N::warp_overlap(&a, &b, rotation, translation, settings.rocking, &memory, local_centroid, local_normal,
+                             &geometry);
+  if ((threadIdx.x & 31) != 0) return;
+  if (handed) {
+    handed_back[atomicAdd(counters + 2, 1)] = p;
+    return;
+  }
+  finish_pair(p, body_i, body_j, state_i, state_j, rotation_i, geometry, local_centroid, local_normal, materials,
+              num_types, settings, contact, history, pair_force, results, counters);
+}
+
 // Force and torque on each force particle: its pairs in a fixed order.
 __global__ void reduce_kernel(int num_force_particles, const int *offsets, const int *entries,
                               const PairForce *pair_force, double *force_torque)
@@ -237,13 +311,79 @@ template <typename T> bool upload_raw(T **device, const std::vector<T> &host, ch
                size);
 }
 
-// Pre-filter, then overlap and contact law for the pairs that passed: all in
-// one launch with local-memory workspaces, else in batches of threads whose
-// workspaces fit in a bounded scratch buffer.
+// contact_kernel over `count` pairs of `list`: in one launch with local-memory
+// workspaces, else in batches of threads whose workspaces fit in a bounded
+// scratch buffer.
+template <int Precision>
+bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int count, poly_gpu_result *device_results,
+                     char *message, size_t size)
+{
+  typedef Narrow<Precision> N;
+  const DeviceShapes &s = state.shapes;
+  if (count == 0) return true;
+  size_t workspace = N::layout(NULL, NULL, s.max_vertices, s.max_triangles);
+  if (workspace <= LocalWorkspace<Precision>::bytes) {
+    contact_kernel<Precision, LocalWorkspace<Precision>::bytes><<<(count + kThreads - 1) / kThreads, kThreads>>>(
+        s, list, 0, count, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
+        state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+        state.pair_force.data, device_results, state.counters.data, NULL, 0);
+    return check(cudaGetLastError(), "contact kernel launch", message, size);
+  }
+  workspace = (workspace + 255) / 256 * 256;
+  size_t batch = (size_t)1 << 18;
+  const size_t budget = (size_t)1 << 30;
+  while (batch > 256 && batch * workspace > budget) batch /= 2;
+  if (!ensure(state.scratch, batch * workspace, message, size)) return false;
+  for (size_t first = 0; first < (size_t)count; first += batch) {
+    int chunk = (int)((size_t)count - first < batch ? (size_t)count - first : batch);
+    contact_kernel<Precision, 0><<<(chunk + kThreads - 1) / kThreads, kThreads>>>(
+        s, list, (int)first, chunk, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
+        state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+        state.pair_force.data, device_results, state.counters.data, state.scratch.data, workspace);
+    if (!check(cudaGetLastError(), "contact kernel launch", message, size)) return false;
+  }
+  return true;
+}
+
+// The warp kernel's limits (WarpLimits) for the shapes of poly_gpu_init.
+template <int Precision> WarpLimits warp_limits()
+{
+  typedef Narrow<Precision> N;
+  WarpLimits w = {0, 0, 0, 0, 0};
+  for (size_t n = 0; n + 2 < state.host_counts.size(); n += 3) {
+    int nv = state.host_counts[n], nt = state.host_counts[n + 1], ne = state.host_counts[n + 2];
+    if (N::warp_layout(NULL, NULL, nv, nt, ne, 4 * nt + 64) > kWarpBytesLimit) continue;
+    w.vertices = nv > w.vertices ? nv : w.vertices;
+    w.triangles = nt > w.triangles ? nt : w.triangles;
+    w.edges = ne > w.edges ? ne : w.edges;
+  }
+  if (w.triangles == 0) return w;
+  w.records = 4 * w.triangles + 64;
+  size_t bytes = N::warp_layout(NULL, NULL, w.vertices, w.triangles, w.edges, w.records);
+  w.bytes = bytes <= kWarpBytesLimit ? (int)bytes : 0;
+  return w;
+}
+
+// Which kernel takes the pairs (POLY_GPU_PAIR_KERNEL=thread or warp forces one).
+// Measured on an H100 (doc/gpu.md, "Two contact kernels"): the thread kernel
+// is the faster one while its workspace fits in local memory, and for convex
+// shapes, whose pairs give every thread of a warp about the same work; the
+// warp kernel when the workspaces must go to global memory (large shapes, or
+// small ones beside a large one) and some shape is not convex.
+template <int Precision> bool use_warp_kernel()
+{
+  if (state.kernel_choice) return state.kernel_choice == 2;
+  const DeviceShapes &s = state.shapes;
+  size_t workspace = Narrow<Precision>::layout(NULL, NULL, s.max_vertices, s.max_triangles);
+  return workspace > LocalWorkspace<Precision>::bytes && state.any_nonconvex;
+}
+
+// Pre-filter, then overlap and contact law for the pairs that passed: a warp
+// per pair, then a thread per pair for those the warps handed back (or for all,
+// when use_warp_kernel says so or no shape fits the warp kernel).
 template <int Precision>
 bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_results, char *message, size_t size)
 {
-  typedef Narrow<Precision> N;
   const DeviceShapes &s = state.shapes;
   const int num_pairs = state.num_pairs;
   int num_touching = 0;
@@ -257,28 +397,30 @@ bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_res
       return false;
   }
   if (num_touching == 0) return true;
-  size_t workspace = N::layout(NULL, NULL, s.max_vertices, s.max_triangles);
-  if (workspace <= LocalWorkspace<Precision>::bytes) {
-    contact_kernel<Precision, LocalWorkspace<Precision>::bytes><<<(num_touching + kThreads - 1) / kThreads, kThreads>>>(
-        s, state.touching.data, 0, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
-        state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
-        state.pair_force.data, device_results, state.counters.data, NULL, 0);
-    return check(cudaGetLastError(), "contact kernel launch", message, size);
-  }
-  workspace = (workspace + 255) / 256 * 256;
-  size_t batch = (size_t)1 << 18;
-  const size_t budget = (size_t)1 << 30;
-  while (batch > 256 && batch * workspace > budget) batch /= 2;
-  if (!ensure(state.scratch, batch * workspace, message, size)) return false;
-  for (size_t first = 0; first < (size_t)num_touching; first += batch) {
-    int count = (int)((size_t)num_touching - first < batch ? (size_t)num_touching - first : batch);
-    contact_kernel<Precision, 0><<<(count + kThreads - 1) / kThreads, kThreads>>>(
-        s, state.touching.data, (int)first, count, state.pair_i.data, state.pair_j.data, state.particles.data,
-        state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
-        state.pair_force.data, device_results, state.counters.data, state.scratch.data, workspace);
-    if (!check(cudaGetLastError(), "contact kernel launch", message, size)) return false;
-  }
-  return true;
+  WarpLimits limits = {0, 0, 0, 0, 0};
+  if (use_warp_kernel<Precision>()) limits = warp_limits<Precision>();
+  const int bytes = limits.bytes;
+  if (bytes == 0) return thread_per_pair<Precision>(settings, state.touching.data, num_touching, device_results, message,
+                                                    size);
+  int warps = kThreads / 32;
+  while (warps > 1 && (size_t)warps * bytes > kWarpBlockBytes) warps /= 2;
+  size_t shared = (size_t)warps * bytes;
+  if (shared > 48 * 1024 &&
+      !check(cudaFuncSetAttribute(warp_contact_kernel<Precision>, cudaFuncAttributeMaxDynamicSharedMemorySize,
+                                  (int)shared), "warp kernel shared memory", message, size))
+    return false;
+  if (!ensure(state.handed_back, num_touching, message, size)) return false;
+  warp_contact_kernel<Precision><<<(num_touching + warps - 1) / warps, 32 * warps, shared>>>(
+      s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
+      state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+      state.pair_force.data, device_results, state.counters.data, state.handed_back.data, limits);
+  int num_handed = 0;
+  if (!check(cudaGetLastError(), "warp kernel launch", message, size) ||
+      !check(cudaMemcpy(&num_handed, state.counters.data + 2, sizeof(int), cudaMemcpyDeviceToHost), "warp kernel",
+             message, size))
+    return false;
+  state.timing.handed_back += num_handed;
+  return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size);
 }
 
 }  // namespace
@@ -312,7 +454,9 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
   // Flatten the shapes; vertex indices stay shape-local.
   DeviceShapes &s = state.shapes;
   s.count = num_shapes;
-  s.max_vertices = s.max_triangles = 1;
+  s.max_vertices = s.max_triangles = s.max_edges = 1;
+  const char *choice = getenv("POLY_GPU_PAIR_KERNEL");
+  state.kernel_choice = choice && strcmp(choice, "thread") == 0 ? 1 : (choice && strcmp(choice, "warp") == 0 ? 2 : 0);
   std::vector<int> offsets, counts, triangles, edges, edge_triangles;
   std::vector<double> radius, vertices_d, normals_d;
   std::vector<float> vertices_f, normals_f;
@@ -321,6 +465,11 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
     const poly_shape *shape = shapes[i];
     if (shape->num_vertices > s.max_vertices) s.max_vertices = shape->num_vertices;
     if (shape->num_triangles > s.max_triangles) s.max_triangles = shape->num_triangles;
+    if (shape->num_edges > s.max_edges) s.max_edges = shape->num_edges;
+    state.host_counts.push_back(shape->num_vertices);
+    state.host_counts.push_back(shape->num_triangles);
+    state.host_counts.push_back(shape->num_edges);
+    if (!shape->face_of) state.any_nonconvex = true;
     offsets.push_back(v); offsets.push_back(t); offsets.push_back(e);
     counts.push_back(shape->num_vertices); counts.push_back(shape->num_triangles); counts.push_back(shape->num_edges);
     radius.push_back(shape->bounding_radius);
@@ -349,7 +498,7 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
             upload_raw(&s.triangles, triangles, message, message_size) &&
             upload_raw(&s.edges, edges, message, message_size) &&
             upload_raw(&s.edge_triangles, edge_triangles, message, message_size) &&
-            ensure(state.counters, 2, message, message_size);
+            ensure(state.counters, 3, message, message_size);
   if (!ok) return -1;
   state.ready = true;
   return 0;
@@ -431,7 +580,7 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
   double start = now();
   if (!check(cudaMemcpy(state.motion.data, state.host_motion.data, sizeof(poly_gpu_motion) * state.num_particles,
                         cudaMemcpyHostToDevice), "upload motion", message, message_size) ||
-      !check(cudaMemset(state.counters.data, 0, 2 * sizeof(int)), "cudaMemset", message, message_size))
+      !check(cudaMemset(state.counters.data, 0, 3 * sizeof(int)), "cudaMemset", message, message_size))
     return -1;
   double uploaded = now();
 
@@ -502,6 +651,7 @@ extern "C" size_t poly_gpu_bytes(void)
   // Shapes are small; the per-particle and per-pair arrays and the workspaces dominate.
   return bytes_of(state.particles) + bytes_of(state.motion) + bytes_of(state.pair_i) + bytes_of(state.pair_j) +
          bytes_of(state.history) + bytes_of(state.contact) + bytes_of(state.touching) + bytes_of(state.counters) +
+         bytes_of(state.handed_back) +
          bytes_of(state.pair_force) + bytes_of(state.results) + bytes_of(state.csr_offsets) +
          bytes_of(state.csr_entries) + bytes_of(state.force_torque) + bytes_of(state.materials) +
          bytes_of(state.scratch) + wall_bytes();
@@ -512,6 +662,7 @@ extern "C" void poly_gpu_clear(void)
   if (state.ready) free_shapes(state.shapes);
   release(state.particles); release(state.motion); release(state.pair_i); release(state.pair_j);
   release(state.history); release(state.contact); release(state.touching); release(state.counters);
+  release(state.handed_back);
   release(state.pair_force); release(state.results); release(state.csr_offsets); release(state.csr_entries);
   release(state.force_torque); release(state.materials); release(state.scratch);
   release(state.host_motion); release(state.host_force_torque);

@@ -119,6 +119,7 @@ typedef struct poly_gpu_wall_overlap {
 typedef struct poly_gpu_timing {
   double set_pairs, upload, kernels, download;
   long num_set_pairs, num_compute;
+  long handed_back;              /* pairs the warp kernel left to the one-thread kernel (flush faces, ...) */
 } poly_gpu_timing;
 
 /* Number of CUDA devices usable by this process (0 without a driver or GPU). */

@@ -15,12 +15,23 @@
 
 #include "poly_overlap_instances.h"
 
+// The warp-per-pair pass (poly_gpu_warp_impl.cuh), once per precision.
+#define POLY_FN(name) poly_##name##_d
+#include "poly_gpu_warp_impl.cuh"
+#undef POLY_FN
+#define POLY_FN(name) poly_##name##_f
+#include "poly_gpu_warp_impl.cuh"
+#undef POLY_FN
+#define POLY_FN(name) poly_##name##_m
+#include "poly_gpu_warp_impl.cuh"
+#undef POLY_FN
+
 namespace poly_gpu_detail {
 
 // Shapes packed in flat device arrays; per shape the offsets into them.
 struct DeviceShapes {
   int count;
-  int max_vertices, max_triangles;
+  int max_vertices, max_triangles, max_edges;
   int *offsets;               // 3 per shape: vertex, triangle, edge offset
   int *counts;                // 3 per shape: vertices, triangles, edges
   double *radius;
@@ -128,6 +139,7 @@ template <int Precision> struct Narrow;
     typedef REAL Real;                                                                                             \
     typedef poly_shape_view##GEOMETRY View;                                                                        \
     typedef poly_overlap_workspace##GEOMETRY Workspace;                                                            \
+    typedef poly_warp_memory##SUFFIX WarpMemory;                                                                   \
     static __device__ View view(const DeviceShapes &s, int shape)                                                  \
     {                                                                                                              \
       return shape_view<View>(s, shape, s.vertices##GEOMETRY, s.normals##GEOMETRY);                              \
@@ -145,6 +157,16 @@ template <int Precision> struct Narrow;
                                    Workspace *ws, double *centroid, double *normal, poly_overlap_result *result)   \
     {                                                                                                              \
       poly_overlap_local##SUFFIX(a, b, rotation, translation, ws, centroid, normal, result);                      \
+    }                                                                                                              \
+    static __host__ __device__ size_t warp_layout(WarpMemory *m, char *memory, int nv, int nt, int ne, int nr)     \
+    {                                                                                                              \
+      return poly_warp_layout##SUFFIX(m, memory, nv, nt, ne, nr);                                                  \
+    }                                                                                                              \
+    static __device__ int warp_overlap(const View *a, const View *b, const double *rotation,                      \
+                                       const double *translation, int want_second, const WarpMemory *m,           \
+                                       double *centroid, double *normal, poly_overlap_result *result)             \
+    {                                                                                                              \
+      return poly_warp_overlap##SUFFIX(a, b, rotation, translation, want_second, m, centroid, normal, result);     \
     }                                                                                                              \
   };
 POLY_GPU_NARROW(POLY_PRECISION_DOUBLE, double, _d, _d)
@@ -171,6 +193,10 @@ template <int Precision> struct LocalWorkspace {
 };
 
 const int kThreads = 128;
+
+// The warp kernel takes shapes whose warp block (poly_gpu_warp_impl.cuh) is at most kWarpBytesLimit, and a
+// block of up to kThreads / 32 warps whose blocks fit in kWarpBlockBytes of shared memory.
+const size_t kWarpBytesLimit = 48 * 1024, kWarpBlockBytes = 96 * 1024;
 
 // Blocks of the contact kernel each SM must be able to hold: 2 leaves ptxas
 // all 255 registers (no spills, 8 warps per SM); 3 caps it at 168 and 4 at

@@ -113,6 +113,28 @@ def test_gpu_and_cpu_agree_pair_by_pair(launcher, precision):
     assert run.stdout.strip().endswith("OK")
 
 
+@needs_gpu
+@pytest.mark.parametrize("kernel", ["thread", "warp"])
+def test_both_contact_kernels_agree_with_cpu(launcher, kernel):
+    """The two contact kernels (doc/gpu.md, "Two contact kernels"), each forced by POLY_GPU_PAIR_KERNEL for
+    every shape that fits it, against the host code in double (2000 pairs per shape, 1 in 8 with flush
+    faces); the warp kernel hands the cube's flush pairs to the one-thread kernel, which must then be
+    counted, and the thread kernel never hands any."""
+    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
+                          "2000", "double"], capture_output=True, text=True,
+                         env=dict(os.environ, POLY_GPU_PAIR_KERNEL=kernel))
+    print(run.stdout)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.strip().endswith("OK")
+    handed = {line.split()[0]: int(re.search(r"; (\d+) pairs handed", line).group(1))
+              for line in run.stdout.splitlines() if "pairs handed" in line}
+    assert len(handed) == 10, run.stdout
+    if kernel == "warp":
+        assert handed["cube.stl"] > 0, handed
+    else:
+        assert not any(handed.values()), handed
+
+
 def thousand_particles(seed=3):
     """A bed of 12 x 12 fixed cubes and 856 rocks and Schönhardt polyhedra above it: 1000 particles."""
     rng = random.Random(seed)

@@ -3,7 +3,7 @@
 #
 #   bash tools/bench_gpu.sh [pairs] [precisions] [shapes]
 #   bash tools/bench_gpu.sh 1000000 "double single mixed" "schoenhardt cube tetrahedron rock_10 rock_40 rock_70 icosphere_80"
-#                                                          (the defaults; about 3 minutes on one H100)
+#                                                          (the defaults; about 6 minutes on one H100)
 #   bash tools/bench_gpu.sh --variants                     (where nvcc is: builds the launch-bound variants below)
 #
 # For each shape and precision, build/tests/gpu_agreement SHAPES PAIRS PRECISION bed SHAPE: PAIRS pairs scaled by
@@ -11,7 +11,10 @@
 # contact with an overlap of 0.1-3 % of the particle volume, half with touching bounding spheres but bodies apart
 # (what a settled bed's neighbour list holds besides its contacts). One step after a warm-up; prints pairs per
 # second of the kernels alone (pre-filter, overlap and contact law, per-particle sums) and of the whole step
-# (poses up and forces down included, which for 2 particles per pair weigh more than in a bed).
+# (poses up and forces down included, which for 2 particles per pair weigh more than in a bed). With only that
+# shape uploaded (a deck of one template), by the default choice of contact kernel and by each of the two
+# forced (POLY_GPU_PAIR_KERNEL=thread|warp); then with all ten reference shapes uploaded (a deck with a large
+# template beside small ones), default against the thread kernel.
 #
 # Then, when built (--variants, needs nvcc and a `make`d tree), the same for Schoenhardt polyhedra with the
 # contact kernel compiled for 3 and 4 blocks per SM (POLY_GPU_CONTACT_MIN_BLOCKS: at most 168 and 128 registers,
@@ -53,10 +56,27 @@ if [ -n "$(git -C "$root" status --porcelain -- src gpu tests/unit 2>/dev/null)"
 echo "commit: $commit; pairs $pairs (scaled by 8 / triangles)"
 echo
 start=$SECONDS
+# Kernels' pairs per second from a gpu_agreement bed line, or the FAIL line.
+rate() { sed -n 's/.*GPU \([0-9.e+]*\) pairs\/s in the kernels.*/\1/p; /FAIL/p'; }
+echo "One shape uploaded (a deck of one template): pairs/s in the kernels with the default choice of contact"
+echo "kernel (doc/gpu.md, \"Two contact kernels\"), and with each forced by POLY_GPU_PAIR_KERNEL"
 for precision in $precisions; do
   for shape in $shapes; do
-    "$agreement" "$root/examples/shapes" "$pairs" "$precision" bed "$shape" | grep -v "^device memory\|^OK$"
+    line="$("$agreement" "$root/examples/shapes" "$pairs" "$precision" bed "$shape" | grep "bed pairs\|FAIL")"
+    thread="$(POLY_GPU_PAIR_KERNEL=thread "$agreement" "$root/examples/shapes" "$pairs" "$precision" bed "$shape" | rate)"
+    warp="$(POLY_GPU_PAIR_KERNEL=warp "$agreement" "$root/examples/shapes" "$pairs" "$precision" bed "$shape" | rate)"
+    echo "$line"
+    echo "    thread kernel $thread, warp kernel $warp"
   done
+done
+echo
+echo "All 10 reference shapes uploaded (a deck with a large template beside small ones: the thread kernel's"
+echo "workspaces go to global memory), each shape's bed in turn: default choice, then the thread kernel forced"
+for precision in $precisions; do
+  paste -d ' ' <("$agreement" "$root/examples/shapes" "$pairs" "$precision" bed | grep "bed pairs\|FAIL" | \
+                   sed 's/ bed pairs.*GPU \([0-9.e+]*\) pairs\/s in the kernels.*/: default \1/') \
+               <(POLY_GPU_PAIR_KERNEL=thread "$agreement" "$root/examples/shapes" "$pairs" "$precision" bed | rate | \
+                   sed 's/^/thread /')
 done
 for variant in "$variants_dir"/gpu_agreement_blocks*; do
   [ -x "$variant" ] || continue

@@ -16,7 +16,8 @@
  * uniform between touching and the sum of the bounding radii); at most 4096
  * distinct poses per shape (fewer for large shapes), repeated over the pairs.
  * Prints pairs per second of the kernels alone and of the whole step. SHAPE:
- * only the shape of that name (file name without extension).
+ * only the shape of that name (file name without extension), which is then the
+ * only shape uploaded, as in a deck of one particle template.
  *
  * Scales: V and depth relative to themselves for overlaps above 1e-3 of the
  * particle volume (below that, relative to 1e-3 V_p: a grazing overlap's own
@@ -115,8 +116,16 @@ int main(int argc, char **argv)
     if (shapes[s].num_vertices > max_vertices) max_vertices = shapes[s].num_vertices;
     if (shapes[s].num_triangles > max_triangles) max_triangles = shapes[s].num_triangles;
   }
+  // A bed of one shape (SHAPE given) uploads only that shape, as a deck of one template does: the kernels'
+  // memory is sized for the shapes uploaded.
+  int first_uploaded = 0, num_uploaded = num_shapes;
+  for (int s = 0; *only && s < num_shapes; s++)
+    if (strlen(only) == strcspn(names[s], ".") && strncmp(names[s], only, strlen(only)) == 0) {
+      first_uploaded = s;
+      num_uploaded = 1;
+    }
   char message[512];
-  if (poly_gpu_init(0, num_shapes, &pointers[0], message, sizeof message) != 0) {
+  if (poly_gpu_init(0, num_uploaded, &pointers[first_uploaded], message, sizeof message) != 0) {
     printf("FAIL %s\n", message);
     return 1;
   }
@@ -137,6 +146,7 @@ int main(int argc, char **argv)
   ws_d.want_second_moment = ws_f.want_second_moment = 1;  // the rocking damping, as the pair style's default
 
   int failures = 0;
+  long handed_before = 0;
   double tolerance = precision == POLY_PRECISION_DOUBLE ? 1e-10 : 1e-4;
   for (int s = 0; s < num_shapes; s++) {
     size_t stem = strcspn(names[s], ".");
@@ -175,6 +185,14 @@ int main(int argc, char **argv)
         for (int k = 0; k < 3; k++) b.position[k] = a.position[k] + pose[k];
         memcpy(a.quaternion, pose + 3, sizeof a.quaternion);
         memcpy(b.quaternion, pose + 7, sizeof b.quaternion);
+      } else if (p % 8 == 7) {
+        // Same orientation, B moved along A's body x axis: faces parallel to that axis are flush (for cubes,
+        // four pairs of them), which the warp kernel hands to the one-thread kernel's smoothing.
+        double distance = r * (0.8 + 0.9 * uniform(&state)), rotation[9];
+        random_quaternion(&state, a.quaternion);
+        memcpy(b.quaternion, a.quaternion, sizeof b.quaternion);
+        poly_quat_to_matrix(a.quaternion, rotation);
+        for (int k = 0; k < 3; k++) b.position[k] = a.position[k] + distance * rotation[3 * k];
       } else {
         double direction[4];
         random_quaternion(&state, direction);
@@ -184,7 +202,7 @@ int main(int argc, char **argv)
         random_quaternion(&state, b.quaternion);
       }
       for (int n = 2 * p; n <= 2 * p + 1; n++) {
-        particles[n].shape = s;
+        particles[n].shape = s - first_uploaded;
         particles[n].type = 1;
         particles[n].mass = 2500.0 * shapes[s].volume;
         particles[n].negligible_volume = 1e-12 * shapes[s].volume;
@@ -253,8 +271,9 @@ int main(int argc, char **argv)
 
     if (bed) {
       printf("%-20s %s: %7d bed pairs (%d poses), %7d contacts; GPU %.3g pairs/s in the kernels, %.3g pairs/s for "
-             "the step (poses up, forces down)\n", names[s], argv[3], count, num_poses, num_contacts,
-             count / kernel_seconds, count / seconds);
+             "the step (poses up, forces down); %ld handed to the one-thread kernel in all calls\n", names[s],
+             argv[3], count, num_poses, num_contacts, count / kernel_seconds, count / seconds,
+             poly_gpu_timings().handed_back);
       continue;
     }
     if (gpu_only) {
@@ -331,9 +350,12 @@ int main(int argc, char **argv)
       }
     }
     double host_seconds = seconds_since(host_start);
+    long handed = poly_gpu_timings().handed_back;
     printf("%-20s %s: %5d pairs, %5d contacts, worst relative difference %.2e (%s); GPU %.3g pairs/s "
-           "(one step: poses up, forces down), one CPU core %.3g pairs/s (same code, checks included)\n", names[s],
-           argv[3], count, contacts, worst, worst_what, count / seconds, count / host_seconds);
+           "(one step: poses up, forces down), one CPU core %.3g pairs/s (same code, checks included); %ld pairs "
+           "handed from the warp to the one-thread kernel over its 3 calls\n", names[s], argv[3], count, contacts, worst, worst_what,
+           count / seconds, count / host_seconds, handed - handed_before);
+    handed_before = handed;
     if (worst > tolerance) failures++;
     if (contacts < count / 4) {
       printf("FAIL too few contacts\n");
