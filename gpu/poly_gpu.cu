@@ -55,8 +55,10 @@ struct State {
   DeviceArray<double> history;
   DeviceArray<int> contact;
   DeviceArray<int> touching;        // compact list of pairs whose bounding spheres overlap
-  DeviceArray<int> counters;        // [0] touching pairs, [1] contacts, [2] pairs the warp kernel handed back
-  DeviceArray<int> handed_back;     // those pairs
+  DeviceArray<int> counters;        // [0] touching pairs, [1] contacts, [2] pairs the warp kernel handed back,
+                                    // [3] touching pairs of shapes beyond the warp kernel's limits
+  DeviceArray<int> handed_back;     // the pairs of [2]
+  DeviceArray<int> large;           // the pairs of [3]
   int kernel_choice;                // POLY_GPU_PAIR_KERNEL: 0 auto, 1 thread, 2 warp
   bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
@@ -74,16 +76,37 @@ struct State {
 State state = {};
 
 
+// Does either shape of the pair exceed the warp kernel's limits?
+__device__ inline bool beyond(const DeviceShapes &shapes, int shape_i, int shape_j, const WarpLimits &limits)
+{
+  const int *a = shapes.counts + 3 * shape_i, *b = shapes.counts + 3 * shape_j;
+  return a[0] > limits.vertices || a[1] > limits.triangles || a[2] > limits.edges || b[0] > limits.vertices ||
+         b[1] > limits.triangles || b[2] > limits.edges;
+}
+
+// Appends p to `list` where `take` (one atomic per warp on *counter).
+__device__ inline void append(int take, int p, int *__restrict__ list, int *__restrict__ counter)
+{
+  unsigned ballot = __ballot_sync(0xffffffffu, take);
+  if (!ballot) return;
+  int lane = threadIdx.x & 31, leader = __ffs(ballot) - 1, base = 0;
+  if (lane == leader) base = atomicAdd(counter, __popc(ballot));
+  base = __shfl_sync(0xffffffffu, base, leader);
+  if (take) list[base + __popc(ballot & ((1u << lane) - 1u))] = p;
+}
+
 // Pairs whose bounding spheres overlap, and whose bodies overlap along the
-// centre line, go to the compact list (one atomic per warp); the others are
-// cleared: no contact, no history, no force.
+// centre line, go to the compact list `touching` (counters[0]), or, when the
+// warp kernel runs (limits.bytes > 0) and a shape exceeds its limits, to
+// `large` (counters[3]) for the one-thread kernel; the others are cleared: no
+// contact, no history, no force.
 template <int Precision>
 __global__ void __launch_bounds__(kThreads)
     bounding_kernel(DeviceShapes shapes, int num_pairs, const int *__restrict__ pair_i,
                     const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
                     const poly_gpu_motion *__restrict__ motion, int *__restrict__ contact,
                     double *__restrict__ history, PairForce *__restrict__ pair_force, int *__restrict__ touching,
-                    int *__restrict__ counters)
+                    int *__restrict__ large, WarpLimits limits, int *__restrict__ counters)
 {
   typedef Narrow<Precision> N;
   int p = blockIdx.x * blockDim.x + threadIdx.x;
@@ -110,12 +133,10 @@ __global__ void __launch_bounds__(kThreads)
     }
   }
   // Every lane of the warp gets here (blocks are whole warps).
-  unsigned ballot = __ballot_sync(0xffffffffu, take);
-  if (!ballot) return;
-  int lane = threadIdx.x & 31, leader = __ffs(ballot) - 1, base = 0;
-  if (lane == leader) base = atomicAdd(counters, __popc(ballot));
-  base = __shfl_sync(0xffffffffu, base, leader);
-  if (take) touching[base + __popc(ballot & ((1u << lane) - 1u))] = p;
+  int to_large = take && limits.bytes > 0 && beyond(shapes, particles[pair_i[p]].shape, particles[pair_j[p]].shape,
+                                                    limits);
+  append(take && !to_large, p, touching, counters);
+  if (limits.bytes > 0) append(to_large, p, large, counters + 3);
 }
 
 // The contact law for pair p from its overlap (in i's local frame), and what
@@ -386,25 +407,28 @@ bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_res
 {
   const DeviceShapes &s = state.shapes;
   const int num_pairs = state.num_pairs;
-  int num_touching = 0;
-  if (num_pairs > 0) {
-    bounding_kernel<Precision><<<(num_pairs + kThreads - 1) / kThreads, kThreads>>>(
-        s, num_pairs, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
-        state.contact.data, state.history.data, state.pair_force.data, state.touching.data, state.counters.data);
-    if (!check(cudaGetLastError(), "bounding kernel launch", message, size) ||
-        !check(cudaMemcpy(&num_touching, state.counters.data, sizeof(int), cudaMemcpyDeviceToHost),
-               "bounding kernel", message, size))
-      return false;
-  }
-  if (num_touching == 0) return true;
+  if (num_pairs == 0) return true;
   WarpLimits limits = {0, 0, 0, 0, 0};
   if (use_warp_kernel<Precision>()) limits = warp_limits<Precision>();
-  const int bytes = limits.bytes;
-  if (bytes == 0) return thread_per_pair<Precision>(settings, state.touching.data, num_touching, device_results, message,
-                                                    size);
+  if (limits.bytes > 0 && !ensure(state.large, num_pairs, message, size)) return false;
+  bounding_kernel<Precision><<<(num_pairs + kThreads - 1) / kThreads, kThreads>>>(
+      s, num_pairs, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
+      state.contact.data, state.history.data, state.pair_force.data, state.touching.data, state.large.data, limits,
+      state.counters.data);
+  int counts[4] = {0, 0, 0, 0};
+  if (!check(cudaGetLastError(), "bounding kernel launch", message, size) ||
+      !check(cudaMemcpy(counts, state.counters.data, sizeof counts, cudaMemcpyDeviceToHost), "bounding kernel",
+             message, size))
+    return false;
+  const int num_touching = counts[0], num_large = counts[3];
+  if (limits.bytes == 0)
+    return thread_per_pair<Precision>(settings, state.touching.data, num_touching, device_results, message, size);
+  if (!thread_per_pair<Precision>(settings, state.large.data, num_large, device_results, message, size))
+    return false;
+  if (num_touching == 0) return true;
   int warps = kThreads / 32;
-  while (warps > 1 && (size_t)warps * bytes > kWarpBlockBytes) warps /= 2;
-  size_t shared = (size_t)warps * bytes;
+  while (warps > 1 && (size_t)warps * limits.bytes > kWarpBlockBytes) warps /= 2;
+  size_t shared = (size_t)warps * limits.bytes;
   if (shared > 48 * 1024 &&
       !check(cudaFuncSetAttribute(warp_contact_kernel<Precision>, cudaFuncAttributeMaxDynamicSharedMemorySize,
                                   (int)shared), "warp kernel shared memory", message, size))
@@ -498,7 +522,7 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
             upload_raw(&s.triangles, triangles, message, message_size) &&
             upload_raw(&s.edges, edges, message, message_size) &&
             upload_raw(&s.edge_triangles, edge_triangles, message, message_size) &&
-            ensure(state.counters, 3, message, message_size);
+            ensure(state.counters, 4, message, message_size);
   if (!ok) return -1;
   state.ready = true;
   return 0;
@@ -580,7 +604,7 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
   double start = now();
   if (!check(cudaMemcpy(state.motion.data, state.host_motion.data, sizeof(poly_gpu_motion) * state.num_particles,
                         cudaMemcpyHostToDevice), "upload motion", message, message_size) ||
-      !check(cudaMemset(state.counters.data, 0, 3 * sizeof(int)), "cudaMemset", message, message_size))
+      !check(cudaMemset(state.counters.data, 0, 4 * sizeof(int)), "cudaMemset", message, message_size))
     return -1;
   double uploaded = now();
 
@@ -651,7 +675,7 @@ extern "C" size_t poly_gpu_bytes(void)
   // Shapes are small; the per-particle and per-pair arrays and the workspaces dominate.
   return bytes_of(state.particles) + bytes_of(state.motion) + bytes_of(state.pair_i) + bytes_of(state.pair_j) +
          bytes_of(state.history) + bytes_of(state.contact) + bytes_of(state.touching) + bytes_of(state.counters) +
-         bytes_of(state.handed_back) +
+         bytes_of(state.handed_back) + bytes_of(state.large) +
          bytes_of(state.pair_force) + bytes_of(state.results) + bytes_of(state.csr_offsets) +
          bytes_of(state.csr_entries) + bytes_of(state.force_torque) + bytes_of(state.materials) +
          bytes_of(state.scratch) + wall_bytes();
@@ -662,7 +686,7 @@ extern "C" void poly_gpu_clear(void)
   if (state.ready) free_shapes(state.shapes);
   release(state.particles); release(state.motion); release(state.pair_i); release(state.pair_j);
   release(state.history); release(state.contact); release(state.touching); release(state.counters);
-  release(state.handed_back);
+  release(state.handed_back); release(state.large);
   release(state.pair_force); release(state.results); release(state.csr_offsets); release(state.csr_entries);
   release(state.force_torque); release(state.materials); release(state.scratch);
   release(state.host_motion); release(state.host_force_torque);
