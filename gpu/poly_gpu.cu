@@ -141,7 +141,7 @@ __global__ void __launch_bounds__(kThreads)
 
 // The contact law for pair p from its overlap (in i's local frame), and what
 // the reduction and the host read: the one end of both contact kernels.
-__device__ void finish_pair(int p, const poly_gpu_particle &body_i, const poly_gpu_particle &body_j,
+__device__ __forceinline__ void finish_pair(int p, const poly_gpu_particle &body_i, const poly_gpu_particle &body_j,
                             const poly_gpu_motion &state_i, const poly_gpu_motion &state_j, const double *rotation_i,
                             const poly_overlap_result &geometry, const double *local_centroid,
                             const double *local_normal, const poly_material_pair *__restrict__ materials,
