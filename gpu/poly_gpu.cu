@@ -43,6 +43,7 @@ struct PairForce {
 // kernel), its records, and the bytes of a block for them (0: no shape fits).
 struct WarpLimits {
   int vertices, triangles, edges, records, bytes;
+  int lanes;  // per pair: 8, 16 or 32
 };
 
 struct State {
@@ -60,6 +61,7 @@ struct State {
   DeviceArray<int> handed_back;     // the pairs of [2]
   DeviceArray<int> large;           // the pairs of [3]
   int kernel_choice;                // POLY_GPU_PAIR_KERNEL: 0 auto, 1 thread, 2 warp
+  int pair_lanes;                   // POLY_GPU_PAIR_LANES: lanes per pair in the warp kernel (0: the default)
   bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
@@ -261,11 +263,12 @@ __global__ void __launch_bounds__(kThreads)
 {
   typedef Narrow<Precision> N;
   extern __shared__ double warp_blocks[];
-  const int warps = blockDim.x >> 5, warp = threadIdx.x >> 5;
-  int local = blockIdx.x * warps + warp;
-  if (local >= count) return;  // the whole warp
+  const int groups = blockDim.x / limits.lanes, group = threadIdx.x / limits.lanes;
+  int local = blockIdx.x * groups + group;
+  if (local >= count) return;  // the pair's whole group of lanes
+  const poly_lanes lanes = poly_lanes_of(limits.lanes);
   typename N::WarpMemory memory;
-  N::warp_layout(&memory, (char *)warp_blocks + (size_t)warp * limits.bytes, limits.vertices, limits.triangles,
+  N::warp_layout(&memory, (char *)warp_blocks + (size_t)group * limits.bytes, limits.vertices, limits.triangles,
                  limits.edges, limits.records);
   int p = list[local];
   int i = pair_i[p], j = pair_j[p];
@@ -280,9 +283,9 @@ __global__ void __launch_bounds__(kThreads)
   int handed = a.num_vertices > limits.vertices || a.num_triangles > limits.triangles || a.num_edges > limits.edges ||
                b.num_vertices > limits.vertices || b.num_triangles > limits.triangles || b.num_edges > limits.edges;
   if (!handed)
-    handed = N::warp_overlap(&a, &b, rotation, translation, settings.rocking, &memory, local_centroid, local_normal,
-                             &geometry);
-  if ((threadIdx.x & 31) != 0) return;
+    handed = N::warp_overlap(&a, &b, rotation, translation, settings.rocking, &memory, lanes, local_centroid,
+                             local_normal, &geometry);
+  if (lanes.lane != 0) return;
   if (handed) {
     handed_back[atomicAdd(counters + 2, 1)] = p;
     return;
@@ -370,7 +373,7 @@ bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int cou
 template <int Precision> WarpLimits warp_limits()
 {
   typedef Narrow<Precision> N;
-  WarpLimits w = {0, 0, 0, 0, 0};
+  WarpLimits w = {0, 0, 0, 0, 0, 32};
   for (size_t n = 0; n + 2 < state.host_counts.size(); n += 3) {
     int nv = state.host_counts[n], nt = state.host_counts[n + 1], ne = state.host_counts[n + 2];
     if (N::warp_layout(NULL, NULL, nv, nt, ne, 4 * nt + 64) > kWarpBytesLimit) continue;
@@ -379,6 +382,9 @@ template <int Precision> WarpLimits warp_limits()
     w.edges = ne > w.edges ? ne : w.edges;
   }
   if (w.triangles == 0) return w;
+  // A pair of small shapes leaves most of a warp's lanes idle: 8 lanes a pair up to 16 triangles (measured faster
+  // than 32 for every such reference shape, 32 faster from 40 triangles; doc/benchmarks.md).
+  w.lanes = state.pair_lanes ? state.pair_lanes : (w.triangles <= 16 ? 8 : 32);
   w.records = 4 * w.triangles + 64;
   size_t bytes = N::warp_layout(NULL, NULL, w.vertices, w.triangles, w.edges, w.records);
   w.bytes = bytes <= kWarpBytesLimit ? (int)bytes : 0;
@@ -408,7 +414,7 @@ bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_res
   const DeviceShapes &s = state.shapes;
   const int num_pairs = state.num_pairs;
   if (num_pairs == 0) return true;
-  WarpLimits limits = {0, 0, 0, 0, 0};
+  WarpLimits limits = {0, 0, 0, 0, 0, 32};
   if (use_warp_kernel<Precision>()) limits = warp_limits<Precision>();
   if (limits.bytes > 0 && !ensure(state.large, num_pairs, message, size)) return false;
   bounding_kernel<Precision><<<(num_pairs + kThreads - 1) / kThreads, kThreads>>>(
@@ -426,15 +432,17 @@ bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_res
   if (!thread_per_pair<Precision>(settings, state.large.data, num_large, device_results, message, size))
     return false;
   if (num_touching == 0) return true;
-  int warps = kThreads / 32;
-  while (warps > 1 && (size_t)warps * limits.bytes > kWarpBlockBytes) warps /= 2;
-  size_t shared = (size_t)warps * limits.bytes;
+  // Blocks of whole warps, as many groups as kWarpBlockBytes holds (at most kThreads lanes).
+  int threads = kThreads;
+  while (threads > 32 && (size_t)(threads / limits.lanes) * limits.bytes > kWarpBlockBytes) threads /= 2;
+  const int groups = threads / limits.lanes;
+  size_t shared = (size_t)groups * limits.bytes;
   if (shared > 48 * 1024 &&
       !check(cudaFuncSetAttribute(warp_contact_kernel<Precision>, cudaFuncAttributeMaxDynamicSharedMemorySize,
                                   (int)shared), "warp kernel shared memory", message, size))
     return false;
   if (!ensure(state.handed_back, num_touching, message, size)) return false;
-  warp_contact_kernel<Precision><<<(num_touching + warps - 1) / warps, 32 * warps, shared>>>(
+  warp_contact_kernel<Precision><<<(num_touching + groups - 1) / groups, threads, shared>>>(
       s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
       state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
       state.pair_force.data, device_results, state.counters.data, state.handed_back.data, limits);
@@ -481,6 +489,8 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
   s.max_vertices = s.max_triangles = s.max_edges = 1;
   const char *choice = getenv("POLY_GPU_PAIR_KERNEL");
   state.kernel_choice = choice && strcmp(choice, "thread") == 0 ? 1 : (choice && strcmp(choice, "warp") == 0 ? 2 : 0);
+  const char *lanes = getenv("POLY_GPU_PAIR_LANES");
+  state.pair_lanes = lanes && (atoi(lanes) == 8 || atoi(lanes) == 16 || atoi(lanes) == 32) ? atoi(lanes) : 0;
   std::vector<int> offsets, counts, triangles, edges, edge_triangles;
   std::vector<double> radius, vertices_d, normals_d;
   std::vector<float> vertices_f, normals_f;

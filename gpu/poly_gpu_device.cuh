@@ -164,9 +164,11 @@ template <int Precision> struct Narrow;
     }                                                                                                              \
     static __device__ int warp_overlap(const View *a, const View *b, const double *rotation,                      \
                                        const double *translation, int want_second, const WarpMemory *m,           \
-                                       double *centroid, double *normal, poly_overlap_result *result)             \
+                                       const poly_lanes &lanes, double *centroid, double *normal,                 \
+                                       poly_overlap_result *result)                                               \
     {                                                                                                              \
-      return poly_warp_overlap##SUFFIX(a, b, rotation, translation, want_second, m, centroid, normal, result);     \
+      return poly_warp_overlap##SUFFIX(a, b, rotation, translation, want_second, m, lanes, centroid, normal,       \
+                                       result);                                                                    \
     }                                                                                                              \
   };
 POLY_GPU_NARROW(POLY_PRECISION_DOUBLE, double, _d, _d)

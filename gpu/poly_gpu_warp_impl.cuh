@@ -1,7 +1,8 @@
-/* One pair's overlap on one warp: the reference path of src/poly_overlap_impl.h
- * (half-space filter, inside tests by ray parity, every edge against the other
- * body's kept triangles, every pair of kept triangles) with its loops spread
- * over the warp's 32 lanes and its arrays in the warp's block of shared memory,
+/* One pair's overlap on one warp, or on a group of 8 or 16 of its lanes
+ * (poly_lanes): the reference path of src/poly_overlap_impl.h (half-space
+ * filter, inside tests by ray parity, every edge against the other body's kept
+ * triangles, every pair of kept triangles) with its loops spread over the
+ * group's lanes and its arrays in the group's block of shared memory,
  * instead of one thread running the whole of it (whose warps ran 5 of 32 lanes
  * on average, tools/bench_gpu.sh's profile in doc/gpu.md). Every predicate is
  * the host's own function on the host's own numbers, so each decision is the
@@ -24,6 +25,32 @@
  * POLY_FN as for poly_overlap_impl.h (no include guard). */
 #define R POLY_FN(real)
 #define ACC POLY_FN(accum)
+
+#ifndef POLY_GPU_LANES
+#define POLY_GPU_LANES
+/* The lanes that share one pair: `size` (8, 16 or 32) consecutive lanes of a warp from `base`; `lane` counts
+ * from 0 within them. */
+struct poly_lanes {
+  int lane, size, base;
+  unsigned mask;
+};
+static __device__ inline poly_lanes poly_lanes_of(int size)
+{
+  poly_lanes g;
+  int warp_lane = threadIdx.x & 31;
+  g.size = size;
+  g.base = warp_lane & ~(size - 1);
+  g.lane = warp_lane - g.base;
+  g.mask = size == 32 ? 0xffffffffu : ((1u << size) - 1u) << g.base;
+  return g;
+}
+/* The group's ballot, bit l for its lane l. */
+static __device__ inline unsigned poly_lanes_ballot(const poly_lanes &g, int predicate)
+{
+  unsigned bits = __ballot_sync(g.mask, predicate) >> g.base;
+  return g.size == 32 ? bits : bits & ((1u << g.size) - 1u);
+}
+#endif
 
 /* An edge's crossings with the other body, sorted along it, before they go to the records. */
 #ifndef POLY_WARP_EDGE_CROSSINGS
@@ -77,37 +104,37 @@ static __host__ __device__ inline size_t POLY_FN(warp_layout)(POLY_FN(warp_memor
 }
 
 /* The pieces of the warp's shared work that its lanes compute each for themselves. */
-static __device__ inline double POLY_FN(warp_max)(double x)
+static __device__ inline double POLY_FN(warp_max)(const poly_lanes &g, double x)
 {
-  for (int offset = 16; offset > 0; offset >>= 1) x = fmax(x, __shfl_xor_sync(0xffffffffu, x, offset));
+  for (int offset = g.size / 2; offset > 0; offset >>= 1) x = fmax(x, __shfl_xor_sync(g.mask, x, offset, g.size));
   return x;
 }
-static __device__ inline double POLY_FN(warp_min)(double x)
+static __device__ inline double POLY_FN(warp_min)(const poly_lanes &g, double x)
 {
-  for (int offset = 16; offset > 0; offset >>= 1) x = fmin(x, __shfl_xor_sync(0xffffffffu, x, offset));
+  for (int offset = g.size / 2; offset > 0; offset >>= 1) x = fmin(x, __shfl_xor_sync(g.mask, x, offset, g.size));
   return x;
 }
-static __device__ inline R POLY_FN(warp_max_r)(R x)
+static __device__ inline R POLY_FN(warp_max_r)(const poly_lanes &g, R x)
 {
-  for (int offset = 16; offset > 0; offset >>= 1) {
-    R y = __shfl_xor_sync(0xffffffffu, x, offset);
+  for (int offset = g.size / 2; offset > 0; offset >>= 1) {
+    R y = __shfl_xor_sync(g.mask, x, offset, g.size);
     x = y > x ? y : x;
   }
   return x;
 }
-static __device__ inline R POLY_FN(warp_min_r)(R x)
+static __device__ inline R POLY_FN(warp_min_r)(const poly_lanes &g, R x)
 {
-  for (int offset = 16; offset > 0; offset >>= 1) {
-    R y = __shfl_xor_sync(0xffffffffu, x, offset);
+  for (int offset = g.size / 2; offset > 0; offset >>= 1) {
+    R y = __shfl_xor_sync(g.mask, x, offset, g.size);
     x = y < x ? y : x;
   }
   return x;
 }
-/* Sum over the lanes in a fixed tree, the total in every lane. */
-template <typename T> static __device__ inline T POLY_FN(warp_sum)(T x)
+/* Sum over the group's lanes in a fixed tree, the total in every lane. */
+template <typename T> static __device__ inline T POLY_FN(warp_sum)(const poly_lanes &g, T x)
 {
-  for (int offset = 16; offset > 0; offset >>= 1) x += __shfl_down_sync(0xffffffffu, x, offset);
-  return __shfl_sync(0xffffffffu, x, 0);
+  for (int offset = g.size / 2; offset > 0; offset >>= 1) x += __shfl_down_sync(g.mask, x, offset, g.size);
+  return __shfl_sync(g.mask, x, 0, g.size);
 }
 
 /* The node of record r (edge g of the combined edge list: A's edges, then B's). */
@@ -128,12 +155,12 @@ static __device__ inline void POLY_FN(warp_record_node)(const POLY_FN(shape_view
 /* Kept triangles of one body, their planes and boxes; returns how many (the same on every lane). */
 static __device__ inline int POLY_FN(warp_keep)(const POLY_FN(shape_view) *body, const R *vertices, int of_b, const R *axis, R limit,
                                    R tolerance, R *planes, R *bounds, int *kept_list, int *apex_key, R *box_low,
-                                   R *box_high, int lane)
+                                   R *box_high, const poly_lanes &g)
 {
   int num_kept = 0;
   R low[3] = {(R)1e30, (R)1e30, (R)1e30}, high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
-  for (int base = 0; base < body->num_triangles; base += 32) {
-    int t = base + lane, kept = 0;
+  for (int base = 0; base < body->num_triangles; base += g.size) {
+    int t = base + g.lane, kept = 0;
     if (t < body->num_triangles) {
       const int *tri = body->triangles + 3 * t;
       R extreme = of_b ? (R)1e30 : -(R)1e30;
@@ -145,13 +172,13 @@ static __device__ inline int POLY_FN(warp_keep)(const POLY_FN(shape_view) *body,
       apex_key[t] = 0x7fffffff;
       if (kept) POLY_FN(prepare_kept_triangle)(vertices, tri, tolerance, planes + 4 * t, bounds + 6 * t, low, high);
     }
-    unsigned ballot = __ballot_sync(0xffffffffu, kept);
-    if (kept) kept_list[num_kept + __popc(ballot & ((1u << lane) - 1u))] = t;
+    unsigned ballot = poly_lanes_ballot(g, kept);
+    if (kept) kept_list[num_kept + __popc(ballot & ((1u << g.lane) - 1u))] = t;
     num_kept += __popc(ballot);
   }
   for (int k = 0; k < 3; k++) {
-    box_low[k] = POLY_FN(warp_min_r)(low[k]);
-    box_high[k] = POLY_FN(warp_max_r)(high[k]);
+    box_low[k] = POLY_FN(warp_min_r)(g, low[k]);
+    box_high[k] = POLY_FN(warp_max_r)(g, high[k]);
   }
   return num_kept;
 }
@@ -164,16 +191,16 @@ static __device__ inline int POLY_FN(warp_keep)(const POLY_FN(shape_view) *body,
  * the records full). */
 static __device__ inline int POLY_FN(warp_edges)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
                                     const POLY_FN(warp_memory) *m, int num_kept_a, int num_kept_b, const R *axis,
-                                    R limit_a, R limit_b, int lane)
+                                    R limit_a, R limit_b, const poly_lanes &g)
 {
   int total = 0, trouble = 0;
   const int num_edges = a->num_edges + b->num_edges;
-  for (int base = 0; base < num_edges; base += 32) {
-    int g = base + lane, count = 0, skipped = 1;
+  for (int base = 0; base < num_edges; base += g.size) {
+    int edge = base + g.lane, count = 0, skipped = 1;
     R lambdas[POLY_WARP_EDGE_CROSSINGS], entering[POLY_WARP_EDGE_CROSSINGS];
     int crossed[POLY_WARP_EDGE_CROSSINGS];
-    if (g < num_edges) {
-      int of_b = g >= a->num_edges, e = of_b ? g - a->num_edges : g;
+    if (edge < num_edges) {
+      int of_b = edge >= a->num_edges, e = of_b ? edge - a->num_edges : edge;
       const POLY_FN(shape_view) *mine = of_b ? b : a, *other = of_b ? a : b;
       const R *my_vertices = of_b ? m->vb : m->va, *other_vertices = of_b ? m->va : m->vb;
       const R *other_planes = of_b ? m->planes_a : m->planes_b, *other_bounds = of_b ? m->bounds_a : m->bounds_b;
@@ -215,17 +242,17 @@ static __device__ inline int POLY_FN(warp_edges)(const POLY_FN(shape_view) *a, c
     }
     /* The records of this round's edges, in edge order. */
     int before = count;
-    for (int offset = 1; offset < 32; offset <<= 1) {
-      int other = __shfl_up_sync(0xffffffffu, before, offset);
-      if (lane >= offset) before += other;
+    for (int offset = 1; offset < g.size; offset <<= 1) {
+      int other = __shfl_up_sync(g.mask, before, offset, g.size);
+      if (g.lane >= offset) before += other;
     }
-    int round_total = __shfl_sync(0xffffffffu, before, 31);
+    int round_total = __shfl_sync(g.mask, before, g.size - 1, g.size);
     int start = total + before - count;
     if (total + round_total > m->capacity_records) trouble = 1;
-    else if (g < num_edges) {
-      m->run_start[g] = skipped ? -1 : start;
-      m->run_count[g] = count;
-      int of_b = g >= a->num_edges, e = of_b ? g - a->num_edges : g;
+    else if (edge < num_edges) {
+      m->run_start[edge] = skipped ? -1 : start;
+      m->run_count[edge] = count;
+      int of_b = edge >= a->num_edges, e = of_b ? edge - a->num_edges : edge;
       const POLY_FN(shape_view) *mine = of_b ? b : a;
       int *my_keys = of_b ? m->apex_key_b : m->apex_key_a, *other_keys = of_b ? m->apex_key_a : m->apex_key_b;
       for (int c = 0; c < count; c++) {
@@ -233,14 +260,14 @@ static __device__ inline int POLY_FN(warp_edges)(const POLY_FN(shape_view) *a, c
         m->record_lambda[r] = lambdas[c];
         m->record_entering[r] = entering[c];
         m->record_triangle[r] = crossed[c];
-        m->record_edge[r] = g;
+        m->record_edge[r] = edge;
         atomicMin(my_keys + mine->edge_triangles[2 * e], r);
         atomicMin(my_keys + mine->edge_triangles[2 * e + 1], r);
         atomicMin(other_keys + crossed[c], r);
       }
     }
     total += round_total;
-    if (__any_sync(0xffffffffu, trouble)) return -1;
+    if (__any_sync(g.mask, trouble)) return -1;
   }
   return total;
 }
@@ -248,9 +275,10 @@ static __device__ inline int POLY_FN(warp_edges)(const POLY_FN(shape_view) *a, c
 /* Each kept facet's apex: its first record's node, else its first corner. */
 static __device__ inline void POLY_FN(warp_apexes)(const POLY_FN(shape_view) *body, const R *vertices, const int *kept_list,
                                       int num_kept, const int *apex_key, R *apex, const POLY_FN(shape_view) *a,
-                                      const POLY_FN(shape_view) *b, const POLY_FN(warp_memory) *m, int lane)
+                                      const POLY_FN(shape_view) *b, const POLY_FN(warp_memory) *m,
+                                      const poly_lanes &g)
 {
-  for (int n = lane; n < num_kept; n += 32) {
+  for (int n = g.lane; n < num_kept; n += g.size) {
     int t = kept_list[n];
     R x[3];
     if (apex_key[t] != 0x7fffffff) POLY_FN(warp_record_node)(a, b, m, apex_key[t], x);
@@ -261,14 +289,15 @@ static __device__ inline void POLY_FN(warp_apexes)(const POLY_FN(shape_view) *bo
 }
 
 /* The overlap of A and B (B placed by rotation and translation in A's body
- * frame) in the local frame, as overlap_local gives it, computed by the whole
- * warp (every lane calls it with the same arguments). Returns 0 with the
+ * frame) in the local frame, as overlap_local gives it, computed by the lanes
+ * of g (every one calls it with the same arguments). Returns 0 with the
  * result (the same in every lane), or 1: hand the pair to the one-thread kernel. */
 static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b, const double *rotation,
                                       const double *translation, int want_second, const POLY_FN(warp_memory) *m,
-                                      double *local_centroid, double *local_normal, poly_overlap_result *result)
+                                      const poly_lanes &g, double *local_centroid, double *local_normal,
+                                      poly_overlap_result *result)
 {
-  const int lane = threadIdx.x & 31;
+  const int lane = g.lane, step = g.size;
   result->volume = result->depth = result->area = result->projected_area = 0.0;
   result->num_nodes = result->num_inconsistent = 0;
   result->filtered_out = result->recomputed = result->smoothed = 0;
@@ -283,7 +312,7 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
   if (distance > 1e-12 * (ra + rb))
     for (int k = 0; k < 3; k++) axis_d[k] = translation[k] / distance;
   double high_a = -1e300, low_b = 1e300;
-  for (int i = lane; i < a->num_vertices; i += 32) {
+  for (int i = lane; i < a->num_vertices; i += step) {
     const R *v = a->vertices + 3 * i;
     double along = axis_d[0] * v[0] + axis_d[1] * v[1] + axis_d[2] * v[2];
     if (along > high_a) high_a = along;
@@ -291,12 +320,12 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
   double turned[3], shift = axis_d[0] * translation[0] + axis_d[1] * translation[1] + axis_d[2] * translation[2];
   for (int i = 0; i < 3; i++)
     turned[i] = rotation[i] * axis_d[0] + rotation[3 + i] * axis_d[1] + rotation[6 + i] * axis_d[2];
-  for (int j = lane; j < b->num_vertices; j += 32) {
+  for (int j = lane; j < b->num_vertices; j += step) {
     const R *v = b->vertices + 3 * j;
     double along = turned[0] * v[0] + turned[1] * v[1] + turned[2] * v[2] + shift;
     if (along < low_b) low_b = along;
   }
-  double extent_a = POLY_FN(warp_max)(high_a), extent_b = POLY_FN(warp_min)(low_b);
+  double extent_a = POLY_FN(warp_max)(g, high_a), extent_b = POLY_FN(warp_min)(g, low_b);
   if (extent_a - extent_b <= 1e-12 * (ra + rb)) {
     result->filtered_out = 1;
     return 0;
@@ -311,28 +340,28 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
   double scale = ra + rb + fabs(middle);
   double margin = 64.0 * (double)POLY_FN(epsilon)() * scale + flush_tolerance * (ra + rb);
   R limit_a = (R)(extent_b - middle - margin), limit_b = (R)(extent_a - middle + margin);
-  for (int i = lane; i < a->num_vertices; i += 32)
+  for (int i = lane; i < a->num_vertices; i += step)
     for (int k = 0; k < 3; k++) m->va[3 * i + k] = (R)((double)a->vertices[3 * i + k] - origin[k]);
-  for (int j = lane; j < b->num_vertices; j += 32) {
+  for (int j = lane; j < b->num_vertices; j += step) {
     const R *v = b->vertices + 3 * j;
     for (int k = 0; k < 3; k++)
       m->vb[3 * j + k] = (R)(rotation[3 * k] * v[0] + rotation[3 * k + 1] * v[1] + rotation[3 * k + 2] * v[2] +
                              translation[k] - origin[k]);
   }
-  __syncwarp();
+  __syncwarp(g.mask);
 
   /* The half-space filter; B's normals in the local frame. */
   R box_a_low[3], box_a_high[3], box_b_low[3], box_b_high[3];
   int num_kept_a = POLY_FN(warp_keep)(a, m->va, 0, axis, limit_a, tolerance, m->planes_a, m->bounds_a, m->kept_list_a,
-                                      m->apex_key_a, box_a_low, box_a_high, lane);
+                                      m->apex_key_a, box_a_low, box_a_high, g);
   int num_kept_b = POLY_FN(warp_keep)(b, m->vb, 1, axis, limit_b, tolerance, m->planes_b, m->bounds_b, m->kept_list_b,
-                                      m->apex_key_b, box_b_low, box_b_high, lane);
+                                      m->apex_key_b, box_b_low, box_b_high, g);
   if (!num_kept_a || !num_kept_b) {
     result->filtered_out = 1;
     return 0;
   }
-  __syncwarp();
-  for (int n = lane; n < num_kept_b; n += 32) {
+  __syncwarp(g.mask);
+  for (int n = lane; n < num_kept_b; n += step) {
     int s = m->kept_list_b[n];
     const R *normal = b->face_normals + 3 * s;
     for (int k = 0; k < 3; k++)
@@ -349,7 +378,7 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
   ray_b[ray_axis] = axis_d[ray_axis] > 0 ? (R)1 : (R)-1;
   ray_a[ray_axis] = -ray_b[ray_axis];
   int num_points = 0;
-  for (int i = lane; i < a->num_vertices; i += 32) {
+  for (int i = lane; i < a->num_vertices; i += step) {
     const R *x = m->va + 3 * i;
     int candidate = POLY_FN(dot)(x, axis) >= limit_a;
     for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= box_b_low[k] && x[k] <= box_b_high[k];
@@ -358,7 +387,7 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
     m->inside_a[i] = (unsigned char)inside;
     num_points += inside;
   }
-  for (int j = lane; j < b->num_vertices; j += 32) {
+  for (int j = lane; j < b->num_vertices; j += step) {
     const R *x = m->vb + 3 * j;
     int candidate = POLY_FN(dot)(x, axis) <= limit_b;
     for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= box_a_low[k] && x[k] <= box_a_high[k];
@@ -367,14 +396,14 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
     m->inside_b[j] = (unsigned char)inside;
     num_points += inside;
   }
-  __syncwarp();
+  __syncwarp(g.mask);
 
-  int num_records = POLY_FN(warp_edges)(a, b, m, num_kept_a, num_kept_b, axis, limit_a, limit_b, lane);
+  int num_records = POLY_FN(warp_edges)(a, b, m, num_kept_a, num_kept_b, axis, limit_a, limit_b, g);
   if (num_records < 0) return 1;
-  __syncwarp();
-  POLY_FN(warp_apexes)(a, m->va, m->kept_list_a, num_kept_a, m->apex_key_a, m->apex_a, a, b, m, lane);
-  POLY_FN(warp_apexes)(b, m->vb, m->kept_list_b, num_kept_b, m->apex_key_b, m->apex_b, a, b, m, lane);
-  __syncwarp();
+  __syncwarp(g.mask);
+  POLY_FN(warp_apexes)(a, m->va, m->kept_list_a, num_kept_a, m->apex_key_a, m->apex_a, a, b, m, g);
+  POLY_FN(warp_apexes)(b, m->vb, m->kept_list_b, num_kept_b, m->apex_key_b, m->apex_b, a, b, m, g);
+  __syncwarp(g.mask);
 
   /* O: the first record's node, else the first vertex inside the other body; none: no boundary, no overlap. */
   POLY_FN(accumulator) acc = {0, {0, 0, 0}, {0, 0, 0}, 0, {0, 0, 0}, 1, want_second, {0, 0, 0, 0, 0, 0}};
@@ -385,8 +414,8 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
       const POLY_FN(shape_view) *mine = body ? b : a;
       const unsigned char *inside = body ? m->inside_b : m->inside_a;
       const R *vertices = body ? m->vb : m->va;
-      for (int base = 0; base < mine->num_vertices && !found; base += 32) {
-        unsigned ballot = __ballot_sync(0xffffffffu, base + lane < mine->num_vertices && inside[base + lane]);
+      for (int base = 0; base < mine->num_vertices && !found; base += step) {
+        unsigned ballot = poly_lanes_ballot(g, base + lane < mine->num_vertices && inside[base + lane]);
         if (!ballot) continue;
         int first = base + __ffs(ballot) - 1;
         for (int k = 0; k < 3; k++) acc.reference[k] = vertices[3 * first + k];
@@ -404,21 +433,21 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
   ws.apex_a = m->apex_a;
   ws.apex_b = m->apex_b;
   const int num_edges = a->num_edges + b->num_edges;
-  for (int g = lane; g < num_edges; g += 32) {
-    if (m->run_start[g] < 0) continue;
-    int of_b = g >= a->num_edges, e = of_b ? g - a->num_edges : g;
+  for (int edge = lane; edge < num_edges; edge += step) {
+    if (m->run_start[edge] < 0) continue;
+    int of_b = edge >= a->num_edges, e = of_b ? edge - a->num_edges : edge;
     const POLY_FN(shape_view) *mine = of_b ? b : a;
     const R *vertices = of_b ? m->vb : m->va;
     int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
-    int start = m->run_start[g];
+    int start = m->run_start[edge];
     POLY_FN(edge_inside_parts)(mine, e, vertices + 3 * v0, vertices + 3 * v1, (of_b ? m->inside_b : m->inside_a)[v0],
-                               m->record_lambda + start, m->record_entering + start, m->run_count[g],
+                               m->record_lambda + start, m->record_entering + start, m->run_count[edge],
                                of_b ? m->normals_b : a->face_normals, of_b ? m->apex_b : m->apex_a, of_b, NULL, &ws,
                                &acc, &num_points);
   }
   int flush = 0;
   const int num_pairs = num_kept_a * num_kept_b;
-  for (int q = lane; q < num_pairs; q += 32) {
+  for (int q = lane; q < num_pairs; q += step) {
     int t = m->kept_list_a[q / num_kept_b], s = m->kept_list_b[q % num_kept_b];
     const R *box_t = m->bounds_a + 6 * t, *box_s = m->bounds_b + 6 * s;
     if (!POLY_FN(boxes_overlap)(box_t, box_t + 3, box_s)) continue;
@@ -429,28 +458,28 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
     POLY_FN(accumulate_triangle_pair)(a, m->va, m->planes_a, a->face_normals, t, b, m->vb, m->planes_b, m->normals_b,
                                       s, &ws, &acc);
   }
-  if (__any_sync(0xffffffffu, flush)) return 1;
+  if (__any_sync(g.mask, flush)) return 1;
 
   /* The lanes' sums, in a fixed order. */
-  ACC volume6 = POLY_FN(warp_sum)(acc.volume6);
+  ACC volume6 = POLY_FN(warp_sum)(g, acc.volume6);
   if (!((double)volume6 > 0.0)) {
-    result->num_nodes = POLY_FN(warp_sum)(num_points);
+    result->num_nodes = POLY_FN(warp_sum)(g, num_points);
     return 0;
   }
   ACC moment24[3], area_normal[3];
   for (int k = 0; k < 3; k++) {
-    moment24[k] = POLY_FN(warp_sum)(acc.moment24[k]);
-    area_normal[k] = POLY_FN(warp_sum)(acc.area_normal[k]);
+    moment24[k] = POLY_FN(warp_sum)(g, acc.moment24[k]);
+    area_normal[k] = POLY_FN(warp_sum)(g, acc.area_normal[k]);
   }
-  ACC area = POLY_FN(warp_sum)(acc.area);
-  result->num_nodes = POLY_FN(warp_sum)(num_points);
+  ACC area = POLY_FN(warp_sum)(g, acc.area);
+  result->num_nodes = POLY_FN(warp_sum)(g, num_points);
   double volume = (double)volume6 / 6.0;
   result->volume = volume;
   for (int k = 0; k < 3; k++)
     local_centroid[k] = (double)moment24[k] / (24.0 * volume) + (double)acc.reference[k] + origin[k];
   result->area = (double)area;
   if (want_second) {
-    for (int e = 0; e < 6; e++) result->second_moment[e] = POLY_FN(warp_sum)(acc.second120[e]) / 120.0;
+    for (int e = 0; e < 6; e++) result->second_moment[e] = POLY_FN(warp_sum)(g, acc.second120[e]) / 120.0;
     double from_reference[3];
     for (int k = 0; k < 3; k++) from_reference[k] = (double)moment24[k] / (24.0 * volume);
     poly_second_moment_to_centroid(result->second_moment, volume, from_reference);
@@ -469,7 +498,7 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
     const POLY_FN(shape_view) *mine = body ? b : a;
     const unsigned char *inside = body ? m->inside_b : m->inside_a;
     const R *vertices = body ? m->vb : m->va;
-    for (int i = lane; i < mine->num_vertices; i += 32) {
+    for (int i = lane; i < mine->num_vertices; i += step) {
       if (!inside[i]) continue;
       const R *x = vertices + 3 * i;
       double along = local_normal[0] * x[0] + local_normal[1] * x[1] + local_normal[2] * x[2];
@@ -477,15 +506,15 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
       high = along > high ? along : high;
     }
   }
-  for (int r = lane; r < num_records; r += 32) {
+  for (int r = lane; r < num_records; r += step) {
     R x[3];
     POLY_FN(warp_record_node)(a, b, m, r, x);
     double along = local_normal[0] * x[0] + local_normal[1] * x[1] + local_normal[2] * x[2];
     low = along < low ? along : low;
     high = along > high ? along : high;
   }
-  low = POLY_FN(warp_min)(low);
-  high = POLY_FN(warp_max)(high);
+  low = POLY_FN(warp_min)(g, low);
+  high = POLY_FN(warp_max)(g, high);
   result->depth = high > low ? high - low : 0.0;
   return 0;
 }

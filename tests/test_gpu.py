@@ -114,15 +114,15 @@ def test_gpu_and_cpu_agree_pair_by_pair(launcher, precision):
 
 
 @needs_gpu
-@pytest.mark.parametrize("kernel", ["thread", "warp"])
-def test_both_contact_kernels_agree_with_cpu(launcher, kernel):
+@pytest.mark.parametrize("kernel,lanes", [("thread", "32"), ("warp", "32"), ("warp", "8")])
+def test_both_contact_kernels_agree_with_cpu(launcher, kernel, lanes):
     """The two contact kernels (doc/gpu.md, "Two contact kernels"), each forced by POLY_GPU_PAIR_KERNEL for
-    every shape that fits it, against the host code in double (2000 pairs per shape, 1 in 8 with flush
-    faces); the warp kernel hands the cube's flush pairs to the one-thread kernel, which must then be
-    counted, and the thread kernel never hands any."""
+    every shape that fits it (the warp kernel with 32 and with 8 lanes a pair, POLY_GPU_PAIR_LANES), against
+    the host code in double (2000 pairs per shape, 1 in 8 with flush faces); the warp kernel hands the cube's
+    flush pairs to the one-thread kernel, which must then be counted, and the thread kernel never hands any."""
     run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
                           "2000", "double"], capture_output=True, text=True,
-                         env=dict(os.environ, POLY_GPU_PAIR_KERNEL=kernel))
+                         env=dict(os.environ, POLY_GPU_PAIR_KERNEL=kernel, POLY_GPU_PAIR_LANES=lanes))
     print(run.stdout)
     assert run.returncode == 0, run.stdout + run.stderr
     assert run.stdout.strip().endswith("OK")
