@@ -469,6 +469,27 @@ extern "C" int poly_gpu_device_count(void)
   return count;
 }
 
+extern "C" int poly_gpu_environment(int *kernel, int *lanes, char *message, size_t message_size)
+{
+  const char *choice = getenv("POLY_GPU_PAIR_KERNEL"), *size = getenv("POLY_GPU_PAIR_LANES");
+  *kernel = *lanes = 0;
+  if (choice && *choice) {
+    *kernel = strcmp(choice, "thread") == 0 ? 1 : (strcmp(choice, "warp") == 0 ? 2 : -1);
+    if (*kernel < 0) {
+      snprintf(message, message_size, "environment variable POLY_GPU_PAIR_KERNEL=%s: expected thread or warp", choice);
+      return -1;
+    }
+  }
+  if (size && *size) {
+    *lanes = strcmp(size, "8") == 0 ? 8 : (strcmp(size, "16") == 0 ? 16 : (strcmp(size, "32") == 0 ? 32 : -1));
+    if (*lanes < 0) {
+      snprintf(message, message_size, "environment variable POLY_GPU_PAIR_LANES=%s: expected 8, 16 or 32", size);
+      return -1;
+    }
+  }
+  return 0;
+}
+
 extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const *shapes, char *message,
                              size_t message_size)
 {
@@ -487,10 +508,7 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
   DeviceShapes &s = state.shapes;
   s.count = num_shapes;
   s.max_vertices = s.max_triangles = s.max_edges = 1;
-  const char *choice = getenv("POLY_GPU_PAIR_KERNEL");
-  state.kernel_choice = choice && strcmp(choice, "thread") == 0 ? 1 : (choice && strcmp(choice, "warp") == 0 ? 2 : 0);
-  const char *lanes = getenv("POLY_GPU_PAIR_LANES");
-  state.pair_lanes = lanes && (atoi(lanes) == 8 || atoi(lanes) == 16 || atoi(lanes) == 32) ? atoi(lanes) : 0;
+  if (poly_gpu_environment(&state.kernel_choice, &state.pair_lanes, message, message_size) != 0) return -1;
   std::vector<int> offsets, counts, triangles, edges, edge_triangles;
   std::vector<double> radius, vertices_d, normals_d;
   std::vector<float> vertices_f, normals_f;

@@ -125,6 +125,13 @@ typedef struct poly_gpu_timing {
 /* Number of CUDA devices usable by this process (0 without a driver or GPU). */
 int poly_gpu_device_count(void);
 
+/* The contact-kernel choice from the environment (doc/gpu.md, "Two contact kernels"):
+ * POLY_GPU_PAIR_KERNEL = thread | warp (unset or empty: chosen from the shapes) and
+ * POLY_GPU_PAIR_LANES = 8 | 16 | 32 (unset or empty: from the shapes). 0, and *kernel
+ * (0 default, 1 thread, 2 warp) and *lanes (0 default), or -1 and a message naming
+ * the variable and its value. Needs no device. */
+int poly_gpu_environment(int *kernel, int *lanes, char *message, size_t message_size);
+
 /* Selects device `device` (modulo the device count) and uploads the shapes.
  * 0 on success, else a message. */
 int poly_gpu_init(int device, int num_shapes, const poly_shape *const *shapes, char *message, size_t message_size);

@@ -69,6 +69,13 @@ void PairPolyhedralVolumetricGPU::init_style()
   error->all(FLERR, "Pair polyhedral/volumetric/gpu: this build has no CUDA support (rebuild with nvcc and CUDA=on)");
 #else
   PairPolyhedralVolumetric::init_style();
+  char message[256];
+  int kernel, lanes;
+  if (poly_gpu_environment(&kernel, &lanes, message, sizeof message) != 0) {
+    char text[320];
+    snprintf(text, sizeof text, "Pair polyhedral/volumetric/gpu: %s", message);
+    error->all(FLERR, text);
+  }
   if (poly_gpu_device_count() == 0)
     error->all(FLERR, "Pair polyhedral/volumetric/gpu: no usable CUDA GPU (use pair_style polyhedral/volumetric)");
   // The device keeps history only within one run; a new run starts from LIGGGHTS' lists.
@@ -82,7 +89,6 @@ void PairPolyhedralVolumetricGPU::init_style()
   int count = (int) views_d.size() - 1;
   std::vector<const poly_shape *> shapes(count > 0 ? count : 1);
   for (int s = 1; s <= count; s++) shapes[s - 1] = &FixParticletemplatePolyhedron::find(lmp, s)->shape();
-  char message[256];
   if (device_ready) {
     // Shapes may have been added between runs: start the device over (history is back on the host).
     poly_gpu_clear();

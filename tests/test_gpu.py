@@ -83,6 +83,20 @@ def test_gpu_style_without_gpu_is_a_clear_error(run_deck):
     assert any(expected in line for line in result.error_lines()), result.output
 
 
+@pytest.mark.parametrize("variable,value,expected", [
+    ("POLY_GPU_PAIR_KERNEL", "fast", "POLY_GPU_PAIR_KERNEL=fast: expected thread or warp"),
+    ("POLY_GPU_PAIR_LANES", "12", "POLY_GPU_PAIR_LANES=12: expected 8, 16 or 32")])
+def test_bad_contact_kernel_choice_is_a_clear_error(run_deck, monkeypatch, variable, value, expected):
+    """A mistyped POLY_GPU_PAIR_KERNEL or POLY_GPU_PAIR_LANES stops the GPU style with an ERROR naming it
+    (checked before the GPU is looked for, so hosts without one test it too), not a silent default."""
+    if not cuda_built():
+        pytest.skip("built without CUDA: the style stops for that reason first")
+    monkeypatch.setenv(variable, value)
+    result = run_deck(small_deck("pair_style polyhedral/volumetric/gpu\n"))
+    assert result.returncode != 0
+    assert any(expected in line for line in result.error_lines()), result.output
+
+
 def test_suffix_gpu_selects_the_gpu_style(run_deck, tmp_path):
     deck = small_deck("pair_style polyhedral/volumetric\n")
     result = run_deck(deck, workdir=tmp_path / "suffix")
