@@ -280,8 +280,8 @@ __global__ void __launch_bounds__(kThreads)
   poly_overlap_result geometry;
   double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
   typename N::View a = N::view(shapes, body_i.shape), b = N::view(shapes, body_j.shape);
-  int handed = a.num_vertices > limits.vertices || a.num_triangles > limits.triangles || a.num_edges > limits.edges ||
-               b.num_vertices > limits.vertices || b.num_triangles > limits.triangles || b.num_edges > limits.edges;
+  // The pre-filter sent pairs beyond the limits elsewhere; kept as a guard of the shared block.
+  int handed = beyond(shapes, body_i.shape, body_j.shape, limits);
   if (!handed)
     handed = N::warp_overlap(&a, &b, rotation, translation, settings.rocking, &memory, lanes, local_centroid,
                              local_normal, &geometry);
@@ -507,7 +507,7 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
   // Flatten the shapes; vertex indices stay shape-local.
   DeviceShapes &s = state.shapes;
   s.count = num_shapes;
-  s.max_vertices = s.max_triangles = s.max_edges = 1;
+  s.max_vertices = s.max_triangles = 1;
   if (poly_gpu_environment(&state.kernel_choice, &state.pair_lanes, message, message_size) != 0) return -1;
   std::vector<int> offsets, counts, triangles, edges, edge_triangles;
   std::vector<double> radius, vertices_d, normals_d;
@@ -517,7 +517,6 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
     const poly_shape *shape = shapes[i];
     if (shape->num_vertices > s.max_vertices) s.max_vertices = shape->num_vertices;
     if (shape->num_triangles > s.max_triangles) s.max_triangles = shape->num_triangles;
-    if (shape->num_edges > s.max_edges) s.max_edges = shape->num_edges;
     state.host_counts.push_back(shape->num_vertices);
     state.host_counts.push_back(shape->num_triangles);
     state.host_counts.push_back(shape->num_edges);

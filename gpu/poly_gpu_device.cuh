@@ -31,7 +31,7 @@ namespace poly_gpu_detail {
 // Shapes packed in flat device arrays; per shape the offsets into them.
 struct DeviceShapes {
   int count;
-  int max_vertices, max_triangles, max_edges;
+  int max_vertices, max_triangles;
   int *offsets;               // 3 per shape: vertex, triangle, edge offset
   int *counts;                // 3 per shape: vertices, triangles, edges
   double *radius;

@@ -98,8 +98,7 @@ typedef struct POLY_FN(clip) {
  * side1 at its ends) differ: `entering` where its first end is in front. */
 POLY_INLINE void POLY_FN(clip_by_face)(POLY_FN(clip) *clip, R side0, R side1, int entering, int face)
 {
-  R lambda = side0 == 0 ? (R)0 : (side1 == 0 ? (R)1 : side0 / (side0 - side1));
-  lambda = lambda < 0 ? (R)0 : (lambda > 1 ? (R)1 : lambda);
+  R lambda = POLY_FN(crossing_parameter)(side0, side1);
   if (entering) {
     if (clip->enter_face < 0 || lambda > clip->enter) {
       clip->enter = lambda;

@@ -84,6 +84,17 @@ POLY_INLINE R POLY_FN(edge_tie_break)(const R *p0, const R *p1, const R *q0, con
   return (R)((segment_in_b ? -1 : 1) * poly_overlap_det_sign(high, low));
 }
 
+/* Where along p0 -> p1 a segment with plane_side values side0, side1 (of
+ * opposite perturbed signs) meets the plane: exactly 0 or 1 at an end on it,
+ * else clamped to [0, 1] against rounding. */
+POLY_INLINE R POLY_FN(crossing_parameter)(R side0, R side1)
+{
+  if (side0 == 0) return 0;
+  if (side1 == 0) return 1;
+  R t = side0 / (side0 - side1);
+  return t < 0 ? 0 : (t > 1 ? 1 : t);
+}
+
 /* The second half of segment_crosses_triangle: whether the segment p0 -> p1,
  * whose ends lie on opposite sides of the plane of `tri` (plane_side values
  * side0, side1; perturbed side of p0 sign0), crosses it inside the triangle. */
@@ -101,12 +112,7 @@ POLY_INLINE int POLY_FN(crossing_in_triangle)(const R *p0, const R *p1, int segm
     if (k == 0) common = sign;
     else if (sign != common) return 0;
   }
-  if (side0 == 0) *lambda = 0;
-  else if (side1 == 0) *lambda = 1;
-  else {
-    R t = side0 / (side0 - side1);
-    *lambda = t < 0 ? 0 : (t > 1 ? 1 : t);
-  }
+  *lambda = POLY_FN(crossing_parameter)(side0, side1);
   return sign0;
 }
 

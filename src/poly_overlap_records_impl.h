@@ -155,12 +155,7 @@ POLY_INLINE int POLY_FN(records_crossing_in_triangle)(const R *p0, const R *p1, 
     if (k == 0) common = sign;
     else if (sign != common) return 0;
   }
-  if (side0 == 0) *lambda = 0;
-  else if (side1 == 0) *lambda = 1;
-  else {
-    R t = side0 / (side0 - side1);
-    *lambda = t < 0 ? 0 : (t > 1 ? 1 : t);
-  }
+  *lambda = POLY_FN(crossing_parameter)(side0, side1);
   return sign0;
 }
 
