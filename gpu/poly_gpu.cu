@@ -38,14 +38,6 @@ struct PairForce {
   double force_j[3], torque_i[3], torque_j[3];
 };
 
-// The warp kernel's limits: the largest counts of the shapes whose own warp
-// block fits kWarpBytesLimit (pairs of larger shapes go to the one-thread
-// kernel), its records, and the bytes of a block for them (0: no shape fits).
-struct WarpLimits {
-  int vertices, triangles, edges, records, bytes;
-  int lanes;  // per pair: 8, 16 or 32
-};
-
 struct State {
   bool ready;
   DeviceShapes shapes;
@@ -60,8 +52,7 @@ struct State {
                                     // [3] touching pairs of shapes beyond the warp kernel's limits
   DeviceArray<int> handed_back;     // the pairs of [2]
   DeviceArray<int> large;           // the pairs of [3]
-  int kernel_choice;                // POLY_GPU_PAIR_KERNEL: 0 auto, 1 thread, 2 warp
-  int pair_lanes;                   // POLY_GPU_PAIR_LANES: lanes per pair in the warp kernel (0: the default)
+  poly_gpu_options options;         // the kernel choices (poly_gpu_environment)
   bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
@@ -81,9 +72,7 @@ State state = {};
 // Does either shape of the pair exceed the warp kernel's limits?
 __device__ inline bool beyond(const DeviceShapes &shapes, int shape_i, int shape_j, const WarpLimits &limits)
 {
-  const int *a = shapes.counts + 3 * shape_i, *b = shapes.counts + 3 * shape_j;
-  return a[0] > limits.vertices || a[1] > limits.triangles || a[2] > limits.edges || b[0] > limits.vertices ||
-         b[1] > limits.triangles || b[2] > limits.edges;
+  return beyond_limits(shapes, shape_i, limits) || beyond_limits(shapes, shape_j, limits);
 }
 
 // Appends p to `list` where `take` (one atomic per warp on *counter).
@@ -284,7 +273,7 @@ __global__ void __launch_bounds__(kThreads)
   int handed = beyond(shapes, body_i.shape, body_j.shape, limits);
   if (!handed)
     handed = N::warp_overlap(&a, &b, rotation, translation, settings.rocking, &memory, lanes, local_centroid,
-                             local_normal, &geometry);
+                             local_normal, &geometry, NULL);
   if (lanes.lane != 0) return;
   if (handed) {
     handed_back[atomicAdd(counters + 2, 1)] = p;
@@ -369,13 +358,16 @@ bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int cou
   return true;
 }
 
-// The warp kernel's limits (WarpLimits) for the shapes of poly_gpu_init.
-template <int Precision> WarpLimits warp_limits()
+// The warp kernels' limits (WarpLimits) for the shapes of poly_gpu_init, each count at least the minimum given.
+template <int Precision> WarpLimits warp_limits_of(int min_vertices, int min_triangles, int min_edges)
 {
   typedef Narrow<Precision> N;
   WarpLimits w = {0, 0, 0, 0, 0, 32};
   for (size_t n = 0; n + 2 < state.host_counts.size(); n += 3) {
     int nv = state.host_counts[n], nt = state.host_counts[n + 1], ne = state.host_counts[n + 2];
+    nv = nv > min_vertices ? nv : min_vertices;
+    nt = nt > min_triangles ? nt : min_triangles;
+    ne = ne > min_edges ? ne : min_edges;
     if (N::warp_layout(NULL, NULL, nv, nt, ne, 4 * nt + 64) > kWarpBytesLimit) continue;
     w.vertices = nv > w.vertices ? nv : w.vertices;
     w.triangles = nt > w.triangles ? nt : w.triangles;
@@ -384,7 +376,7 @@ template <int Precision> WarpLimits warp_limits()
   if (w.triangles == 0) return w;
   // A pair of small shapes leaves most of a warp's lanes idle: 8 lanes a pair up to 16 triangles (measured faster
   // than 32 for every such reference shape, 32 faster from 40 triangles; doc/benchmarks.md).
-  w.lanes = state.pair_lanes ? state.pair_lanes : (w.triangles <= 16 ? 8 : 32);
+  w.lanes = state.options.pair_lanes ? state.options.pair_lanes : (w.triangles <= 16 ? 8 : 32);
   w.records = 4 * w.triangles + 64;
   size_t bytes = N::warp_layout(NULL, NULL, w.vertices, w.triangles, w.edges, w.records);
   w.bytes = bytes <= kWarpBytesLimit ? (int)bytes : 0;
@@ -399,7 +391,7 @@ template <int Precision> WarpLimits warp_limits()
 // small ones beside a large one) and some shape is not convex.
 template <int Precision> bool use_warp_kernel()
 {
-  if (state.kernel_choice) return state.kernel_choice == 2;
+  if (state.options.pair_kernel) return state.options.pair_kernel == 2;
   const DeviceShapes &s = state.shapes;
   size_t workspace = Narrow<Precision>::layout(NULL, NULL, s.max_vertices, s.max_triangles);
   return workspace > LocalWorkspace<Precision>::bytes && state.any_nonconvex;
@@ -415,7 +407,7 @@ bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_res
   const int num_pairs = state.num_pairs;
   if (num_pairs == 0) return true;
   WarpLimits limits = {0, 0, 0, 0, 0, 32};
-  if (use_warp_kernel<Precision>()) limits = warp_limits<Precision>();
+  if (use_warp_kernel<Precision>()) limits = warp_limits_of<Precision>(0, 0, 0);
   if (limits.bytes > 0 && !ensure(state.large, num_pairs, message, size)) return false;
   bounding_kernel<Precision><<<(num_pairs + kThreads - 1) / kThreads, kThreads>>>(
       s, num_pairs, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
@@ -432,17 +424,11 @@ bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_res
   if (!thread_per_pair<Precision>(settings, state.large.data, num_large, device_results, message, size))
     return false;
   if (num_touching == 0) return true;
-  // Blocks of whole warps, as many groups as kWarpBlockBytes holds (at most kThreads lanes).
-  int threads = kThreads;
-  while (threads > 32 && (size_t)(threads / limits.lanes) * limits.bytes > kWarpBlockBytes) threads /= 2;
-  const int groups = threads / limits.lanes;
-  size_t shared = (size_t)groups * limits.bytes;
-  if (shared > 48 * 1024 &&
-      !check(cudaFuncSetAttribute(warp_contact_kernel<Precision>, cudaFuncAttributeMaxDynamicSharedMemorySize,
-                                  (int)shared), "warp kernel shared memory", message, size))
+  WarpLaunch grid;
+  if (!warp_launch(warp_contact_kernel<Precision>, limits, &grid, message, size) ||
+      !ensure(state.handed_back, num_touching, message, size))
     return false;
-  if (!ensure(state.handed_back, num_touching, message, size)) return false;
-  warp_contact_kernel<Precision><<<(num_touching + groups - 1) / groups, threads, shared>>>(
+  warp_contact_kernel<Precision><<<(num_touching + grid.groups - 1) / grid.groups, grid.threads, grid.shared>>>(
       s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
       state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
       state.pair_force.data, device_results, state.counters.data, state.handed_back.data, limits);
@@ -462,6 +448,26 @@ const DeviceShapes *poly_gpu_detail::device_shapes()
   return state.ready ? &state.shapes : NULL;
 }
 
+WarpLimits poly_gpu_detail::warp_limits(int precision, int min_vertices, int min_triangles, int min_edges)
+{
+  return precision == POLY_PRECISION_DOUBLE ? warp_limits_of<POLY_PRECISION_DOUBLE>(min_vertices, min_triangles,
+                                                                                    min_edges)
+         : precision == POLY_PRECISION_MIXED ? warp_limits_of<POLY_PRECISION_MIXED>(min_vertices, min_triangles,
+                                                                                   min_edges)
+                                             : warp_limits_of<POLY_PRECISION_SINGLE>(min_vertices, min_triangles,
+                                                                                    min_edges);
+}
+
+int poly_gpu_detail::wall_kernel_choice()
+{
+  return state.options.wall_kernel;
+}
+
+bool poly_gpu_detail::any_nonconvex()
+{
+  return state.any_nonconvex;
+}
+
 extern "C" int poly_gpu_device_count(void)
 {
   int count = 0;
@@ -469,34 +475,66 @@ extern "C" int poly_gpu_device_count(void)
   return count;
 }
 
-extern "C" int poly_gpu_environment(int *kernel, int *lanes, char *message, size_t message_size)
+// Where the host's code is cheaper than a GPU call (doc/gpu.md, "Small decks"): a rank's neighbour list whose
+// pairs, those in contact counting 32, number fewer than this runs on the host until the next rebuild...
+#ifndef POLY_GPU_DEFAULT_MIN_PAIRS
+#define POLY_GPU_DEFAULT_MIN_PAIRS 500
+#endif
+// ...and so do a step's mesh-wall pieces when fewer than this.
+#ifndef POLY_GPU_DEFAULT_MIN_PIECES
+#define POLY_GPU_DEFAULT_MIN_PIECES 32
+#endif
+
+static int read_choice(const char *name, const char *const *words, const int *values, int count, const char *expected,
+                       int *out, char *message, size_t message_size)
 {
-  const char *choice = getenv("POLY_GPU_PAIR_KERNEL"), *size = getenv("POLY_GPU_PAIR_LANES");
-  *kernel = *lanes = 0;
-  if (choice && *choice) {
-    *kernel = strcmp(choice, "thread") == 0 ? 1 : (strcmp(choice, "warp") == 0 ? 2 : -1);
-    if (*kernel < 0) {
-      snprintf(message, message_size, "environment variable POLY_GPU_PAIR_KERNEL=%s: expected thread or warp", choice);
-      return -1;
+  const char *text = getenv(name);
+  *out = 0;
+  if (!text || !*text) return 0;
+  for (int n = 0; n < count; n++)
+    if (strcmp(text, words[n]) == 0) {
+      *out = values[n];
+      return 0;
     }
+  snprintf(message, message_size, "environment variable %s=%s: expected %s", name, text, expected);
+  return -1;
+}
+
+static int read_count(const char *name, long fallback, long *out, char *message, size_t message_size)
+{
+  const char *text = getenv(name);
+  *out = fallback;
+  if (!text || !*text) return 0;
+  char *end = NULL;
+  long value = strtol(text, &end, 10);
+  if (*end != '\0' || value < 0) {
+    snprintf(message, message_size, "environment variable %s=%s: expected a whole number, 0 or more", name, text);
+    return -1;
   }
-  if (size && *size) {
-    *lanes = strcmp(size, "8") == 0 ? 8 : (strcmp(size, "16") == 0 ? 16 : (strcmp(size, "32") == 0 ? 32 : -1));
-    if (*lanes < 0) {
-      snprintf(message, message_size, "environment variable POLY_GPU_PAIR_LANES=%s: expected 8, 16 or 32", size);
-      return -1;
-    }
-  }
+  *out = value;
+  return 0;
+}
+
+extern "C" int poly_gpu_environment(poly_gpu_options *options, char *message, size_t message_size)
+{
+  const char *kernels[2] = {"thread", "warp"}, *lanes[3] = {"8", "16", "32"};
+  const int kernel_values[2] = {1, 2}, lane_values[3] = {8, 16, 32};
+  if (read_choice("POLY_GPU_PAIR_KERNEL", kernels, kernel_values, 2, "thread or warp", &options->pair_kernel, message,
+                  message_size) ||
+      read_choice("POLY_GPU_PAIR_LANES", lanes, lane_values, 3, "8, 16 or 32", &options->pair_lanes, message,
+                  message_size) ||
+      read_choice("POLY_GPU_WALL_KERNEL", kernels, kernel_values, 2, "thread or warp", &options->wall_kernel, message,
+                  message_size) ||
+      read_count("POLY_GPU_MIN_PAIRS", POLY_GPU_DEFAULT_MIN_PAIRS, &options->min_pairs, message, message_size) ||
+      read_count("POLY_GPU_MIN_PIECES", POLY_GPU_DEFAULT_MIN_PIECES, &options->min_pieces, message, message_size))
+    return -1;
   return 0;
 }
 
 extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const *shapes, char *message,
                              size_t message_size)
 {
-  // A new run re-initialises; the timing summary covers the whole session.
-  poly_gpu_timing timing = state.timing;
   poly_gpu_clear();
-  state.timing = timing;
   int devices = poly_gpu_device_count();
   if (devices == 0) {
     snprintf(message, message_size, "no CUDA device is available");
@@ -508,7 +546,7 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
   DeviceShapes &s = state.shapes;
   s.count = num_shapes;
   s.max_vertices = s.max_triangles = 1;
-  if (poly_gpu_environment(&state.kernel_choice, &state.pair_lanes, message, message_size) != 0) return -1;
+  if (poly_gpu_environment(&state.options, message, message_size) != 0) return -1;
   std::vector<int> offsets, counts, triangles, edges, edge_triangles;
   std::vector<double> radius, vertices_d, normals_d;
   std::vector<float> vertices_f, normals_f;
@@ -678,6 +716,7 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
   state.timing.kernels += computed - uploaded;
   state.timing.download += done - computed;
   state.timing.num_compute++;
+  state.timing.pairs += num_pairs;
   return 0;
 }
 
@@ -694,7 +733,9 @@ extern "C" int poly_gpu_get_history(double *history, int *contact, char *message
 
 extern "C" poly_gpu_timing poly_gpu_timings(void)
 {
-  return state.timing;
+  poly_gpu_timing timing = state.timing;
+  wall_timing(&timing);
+  return timing;
 }
 
 extern "C" size_t poly_gpu_bytes(void)
@@ -718,5 +759,8 @@ extern "C" void poly_gpu_clear(void)
   release(state.force_torque); release(state.materials); release(state.scratch);
   release(state.host_motion); release(state.host_force_torque);
   wall_clear();
+  // A new run re-initialises: the timing summary covers the whole session.
+  poly_gpu_timing timing = state.timing;
   state = State();
+  state.timing = timing;
 }

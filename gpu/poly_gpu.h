@@ -114,23 +114,36 @@ typedef struct poly_gpu_wall_overlap {
   int first_node, pad;
 } poly_gpu_wall_overlap;
 
-/* Accumulated wall-clock seconds of poly_gpu_set_pairs and of the phases of
- * poly_gpu_compute, and how often each ran. */
+/* Accumulated wall-clock seconds of poly_gpu_set_pairs, of the phases of
+ * poly_gpu_compute and of poly_gpu_wall_overlaps, how often each ran, and what
+ * they computed. */
 typedef struct poly_gpu_timing {
   double set_pairs, upload, kernels, download;
   long num_set_pairs, num_compute;
+  long pairs;                    /* candidate pairs, summed over the poly_gpu_compute calls */
   long handed_back;              /* pairs the warp kernel left to the one-thread kernel (flush faces, ...) */
+  double wall_seconds;           /* poly_gpu_wall_overlaps: pieces up, overlaps and nodes down */
+  long wall_calls, wall_pieces;  /* its calls, and their pieces summed */
+  long wall_handed_back;         /* pieces its lanes left to the one-thread kernel */
 } poly_gpu_timing;
 
 /* Number of CUDA devices usable by this process (0 without a driver or GPU). */
 int poly_gpu_device_count(void);
 
-/* The contact-kernel choice from the environment (doc/gpu.md, "Two contact kernels"):
- * POLY_GPU_PAIR_KERNEL = thread | warp (unset or empty: chosen from the shapes) and
- * POLY_GPU_PAIR_LANES = 8 | 16 | 32 (unset or empty: from the shapes). 0, and *kernel
- * (0 default, 1 thread, 2 warp) and *lanes (0 default), or -1 and a message naming
- * the variable and its value. Needs no device. */
-int poly_gpu_environment(int *kernel, int *lanes, char *message, size_t message_size);
+/* Choices read from the environment (doc/gpu.md): which kernels run, and below
+ * how much work a rank leaves the GPU idle and runs the host's code instead. */
+typedef struct poly_gpu_options {
+  int pair_kernel;               /* POLY_GPU_PAIR_KERNEL = thread | warp: 1, 2 (0 unset: chosen from the shapes) */
+  int pair_lanes;                /* POLY_GPU_PAIR_LANES = 8 | 16 | 32, pairs and wall pieces (0 unset: from the shapes) */
+  int wall_kernel;               /* POLY_GPU_WALL_KERNEL = thread | warp: 1, 2 (0 unset: chosen from the shapes) */
+  long min_pairs;                /* POLY_GPU_MIN_PAIRS: fewer neighbour-list pairs on a rank (one in contact counting
+                                    32): its pairs on the host until the next rebuild */
+  long min_pieces;               /* POLY_GPU_MIN_PIECES: fewer mesh-wall pieces in a step: on the host */
+} poly_gpu_options;
+
+/* The options from the environment (unset or empty: the defaults), or -1 and a
+ * message naming the variable and its value. Needs no device. */
+int poly_gpu_environment(poly_gpu_options *options, char *message, size_t message_size);
 
 /* Selects device `device` (modulo the device count) and uploads the shapes.
  * 0 on success, else a message. */
@@ -172,9 +185,6 @@ poly_gpu_wall_piece *poly_gpu_wall_buffer(int count);
  * message. */
 int poly_gpu_wall_overlaps(int precision, int count, poly_gpu_wall_overlap *overlaps, const double **nodes,
                            char *message, size_t message_size);
-
-/* Seconds spent in poly_gpu_wall_overlaps, and its calls. */
-double poly_gpu_wall_seconds(long *calls);
 
 poly_gpu_timing poly_gpu_timings(void);
 

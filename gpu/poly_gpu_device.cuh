@@ -162,13 +162,19 @@ template <int Precision> struct Narrow;
     {                                                                                                              \
       return poly_warp_layout##SUFFIX(m, memory, nv, nt, ne, nr);                                                  \
     }                                                                                                              \
+    typedef poly_warp_frame##SUFFIX WarpFrame;                                                                     \
     static __device__ int warp_overlap(const View *a, const View *b, const double *rotation,                      \
                                        const double *translation, int want_second, const WarpMemory *m,           \
                                        const poly_lanes &lanes, double *centroid, double *normal,                 \
-                                       poly_overlap_result *result)                                               \
+                                       poly_overlap_result *result, WarpFrame *frame)                             \
     {                                                                                                              \
       return poly_warp_overlap##SUFFIX(a, b, rotation, translation, want_second, m, lanes, centroid, normal,       \
-                                       result);                                                                    \
+                                       result, frame);                                                             \
+    }                                                                                                              \
+    static __device__ void warp_nodes(const View *a, const View *b, const WarpMemory *m, const WarpFrame *frame,  \
+                                      const double *rotation_a, const poly_lanes &lanes, double *out)             \
+    {                                                                                                              \
+      poly_warp_nodes##SUFFIX(a, b, m, frame, rotation_a, lanes, out);                                            \
     }                                                                                                              \
   };
 POLY_GPU_NARROW(POLY_PRECISION_DOUBLE, double, _d, _d)
@@ -207,12 +213,55 @@ const size_t kWarpBytesLimit = 48 * 1024, kWarpBlockBytes = 96 * 1024;
 #define POLY_GPU_CONTACT_MIN_BLOCKS 2
 #endif
 
+// The warp kernels' limits: the largest counts of the shapes whose own warp
+// block fits kWarpBytesLimit (larger shapes go to the one-thread kernels),
+// their records, and the bytes of a block for them (0: no shape fits).
+struct WarpLimits {
+  int vertices, triangles, edges, records, bytes;
+  int lanes;  // per pair or wall piece: 8, 16 or 32
+};
+
+// Does the shape exceed the warp kernels' limits?
+__device__ inline bool beyond_limits(const DeviceShapes &shapes, int shape, const WarpLimits &limits)
+{
+  const int *c = shapes.counts + 3 * shape;
+  return c[0] > limits.vertices || c[1] > limits.triangles || c[2] > limits.edges;
+}
+
+// A warp kernel's launch: blocks of whole warps, as many groups of limits.lanes lanes as kWarpBlockBytes holds
+// (at most kThreads lanes), each group with its block of limits.bytes of shared memory; lets the kernel use
+// more than the default 48 KiB where it needs to.
+struct WarpLaunch {
+  int threads, groups;
+  size_t shared;
+};
+template <typename Kernel>
+inline bool warp_launch(Kernel kernel, const WarpLimits &limits, WarpLaunch *launch, char *message, size_t size)
+{
+  launch->threads = kThreads;
+  while (launch->threads > 32 && (size_t)(launch->threads / limits.lanes) * limits.bytes > kWarpBlockBytes)
+    launch->threads /= 2;
+  launch->groups = launch->threads / limits.lanes;
+  launch->shared = (size_t)launch->groups * limits.bytes;
+  return launch->shared <= 48 * 1024 ||
+         check(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)launch->shared),
+               "warp kernel shared memory", message, size);
+}
+
 // The shapes uploaded by poly_gpu_init (NULL before it).
 const DeviceShapes *device_shapes();
+
+// For the shapes of poly_gpu_init in a precision: the warp kernels' limits, each count at least the minimum
+// given (a wall's prism: 6 vertices, 8 triangles, 12 edges); POLY_GPU_WALL_KERNEL (0 unset, 1 thread, 2 warp);
+// whether some shape is not convex.
+WarpLimits warp_limits(int precision, int min_vertices, int min_triangles, int min_edges);
+int wall_kernel_choice();
+bool any_nonconvex();
 
 // The wall narrow phase's device memory (poly_gpu_wall.cu), for poly_gpu_bytes and poly_gpu_clear.
 size_t wall_bytes();
 void wall_clear();
+void wall_timing(poly_gpu_timing *timing);  // its fields wall_*
 
 }  // namespace poly_gpu_detail
 

@@ -291,13 +291,21 @@ static __device__ inline void POLY_FN(warp_apexes)(const POLY_FN(shape_view) *bo
 /* The overlap of A and B (B placed by rotation and translation in A's body
  * frame) in the local frame, as overlap_local gives it, computed by the lanes
  * of g (every one calls it with the same arguments). Returns 0 with the
- * result (the same in every lane), or 1: hand the pair to the one-thread kernel. */
+ * result (the same in every lane), or 1: hand the pair to the one-thread kernel.
+ * With `frame` given, also where the nodes are (warp_nodes): the local frame's
+ * origin in A's body frame and the number of crossing records. */
+typedef struct POLY_FN(warp_frame) {
+  double origin[3];
+  int num_records;
+} POLY_FN(warp_frame);
+
 static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b, const double *rotation,
                                       const double *translation, int want_second, const POLY_FN(warp_memory) *m,
                                       const poly_lanes &g, double *local_centroid, double *local_normal,
-                                      poly_overlap_result *result)
+                                      poly_overlap_result *result, POLY_FN(warp_frame) *frame)
 {
   const int lane = g.lane, step = g.size;
+  if (frame) frame->num_records = 0;
   result->volume = result->depth = result->area = result->projected_area = 0.0;
   result->num_nodes = result->num_inconsistent = 0;
   result->filtered_out = result->recomputed = result->smoothed = 0;
@@ -335,6 +343,8 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
   double flush_tolerance = 4.0 * POLY_FN(smoothing_length)();
   double middle = 0.5 * (extent_a + extent_b);
   double origin[3] = {axis_d[0] * middle, axis_d[1] * middle, axis_d[2] * middle};
+  if (frame)
+    for (int k = 0; k < 3; k++) frame->origin[k] = origin[k];
   R axis[3] = {(R)axis_d[0], (R)axis_d[1], (R)axis_d[2]};
   R tolerance = (R)(flush_tolerance * (ra + rb));
   double scale = ra + rb + fabs(middle);
@@ -400,6 +410,7 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
 
   int num_records = POLY_FN(warp_edges)(a, b, m, num_kept_a, num_kept_b, axis, limit_a, limit_b, g);
   if (num_records < 0) return 1;
+  if (frame) frame->num_records = num_records;
   __syncwarp(g.mask);
   POLY_FN(warp_apexes)(a, m->va, m->kept_list_a, num_kept_a, m->apex_key_a, m->apex_a, a, b, m, g);
   POLY_FN(warp_apexes)(b, m->vb, m->kept_list_b, num_kept_b, m->apex_key_b, m->apex_b, a, b, m, g);
@@ -517,6 +528,39 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
   high = POLY_FN(warp_max)(g, high);
   result->depth = high > low ? high - low : 0.0;
   return 0;
+}
+
+/* The nodes of an overlap warp_overlap found (returned 0, `frame` given), as the host's workspace holds them
+ * (vertices inside the other body, then the crossings, in the local frame): A's inside vertices in vertex
+ * order, then B's, then the records in order, turned by `rotation_a` into out[3 * n] relative to A's
+ * position (as poly_overlap_nodes_d gives them). Every lane of g calls it. */
+static __device__ inline void POLY_FN(warp_nodes)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                    const POLY_FN(warp_memory) *m, const POLY_FN(warp_frame) *frame,
+                                    const double *rotation_a, const poly_lanes &g, double *out)
+{
+  int written = 0;
+  for (int body = 0; body < 2; body++) {
+    const POLY_FN(shape_view) *mine = body ? b : a;
+    const unsigned char *inside = body ? m->inside_b : m->inside_a;
+    const R *vertices = body ? m->vb : m->va;
+    for (int base = 0; base < mine->num_vertices; base += g.size) {
+      int i = base + g.lane, take = i < mine->num_vertices && inside[i];
+      unsigned ballot = poly_lanes_ballot(g, take);
+      if (take) {
+        double point[3];
+        for (int k = 0; k < 3; k++) point[k] = (double)vertices[3 * i + k] + frame->origin[k];
+        poly_matrix_apply(rotation_a, point, out + 3 * (size_t)(written + __popc(ballot & ((1u << g.lane) - 1u))));
+      }
+      written += __popc(ballot);
+    }
+  }
+  for (int r = g.lane; r < frame->num_records; r += g.size) {
+    R x[3];
+    POLY_FN(warp_record_node)(a, b, m, r, x);
+    double point[3];
+    for (int k = 0; k < 3; k++) point[k] = (double)x[k] + frame->origin[k];
+    poly_matrix_apply(rotation_a, point, out + 3 * (size_t)(written + r));
+  }
 }
 
 #undef R

@@ -33,7 +33,7 @@ using namespace FixConst;
 FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
       sagitta(1e-6), thickness(0.0), shell_thickness(0.0), closed_particles(0),
-      have_workspace(false), gpu_precision(-1), tangential(-1), damping(-1), rocking(-1), history_id(NULL), history(NULL), pair(NULL),
+      have_workspace(false), gpu_precision(-1), gpu_min_pieces(0), tangential(-1), damping(-1), rocking(-1), history_id(NULL), history(NULL), pair(NULL),
       force_summed(false)
 {
   if (strcmp(atom->atom_style, "polyhedron") != 0) error->all(FLERR, "Fix wall/polyhedral requires atom_style polyhedron");
@@ -227,7 +227,9 @@ void FixWallPolyhedral::init()
   use_rocking = use_damping && (rocking < 0 ? pair->rocking_damping_on() : rocking);
   PairPolyhedralVolumetric::material_table(lmp, style, use_damping, use_tangential, materials);
   // With the /gpu pair style the meshes' overlaps run on its GPU, in its precision.
-  gpu_precision = dynamic_cast<PairPolyhedralVolumetricGPU *>(pair) ? pair->narrow_precision() : -1;
+  PairPolyhedralVolumetricGPU *gpu_pair = dynamic_cast<PairPolyhedralVolumetricGPU *>(pair);
+  gpu_precision = gpu_pair ? pair->narrow_precision() : -1;
+  gpu_min_pieces = gpu_pair ? gpu_pair->wall_pieces_on_gpu_from() : 0;
   if (meshes.empty()) return;
 
   for (size_t m = 0; m < meshes.size(); m++) {
@@ -766,7 +768,8 @@ void FixWallPolyhedral::compute_overlaps()
   overlap_first_node.assign(count, -1);
   overlap_num_nodes.assign(count, -1);
   nodes.clear();
-  if (gpu_precision >= 0) {
+  // Fewer pieces than a GPU call is worth (POLY_GPU_MIN_PIECES) stay on the host.
+  if (gpu_precision >= 0 && (long)count >= gpu_min_pieces) {
 #ifdef POLY_HAVE_CUDA
     char message[512];
     poly_gpu_wall_piece *buffer = poly_gpu_wall_buffer((int)count);

@@ -104,6 +104,7 @@ class FixWallPolyhedral : public Fix {
   std::vector<int> overlap_first_node, overlap_num_nodes;  // per candidate, into `nodes`; < 0: not kept
   std::vector<poly_gpu_wall_overlap> gpu_overlaps;
   int gpu_precision;         // -1: overlaps on the CPU; else on the GPU of the /gpu pair style, in this precision
+  long gpu_min_pieces;       // with the GPU: steps with fewer pieces than this compute them on the host
   std::vector<MeshPiece> pieces;
   std::vector<double> nodes;   // of all pieces, world frame relative to their particle
   std::vector<poly_overlap_result> particle_pieces;  // one particle's pieces at a time

@@ -25,8 +25,8 @@ struct poly_gpu_result {};
 #endif
 
 PairPolyhedralVolumetricGPU::PairPolyhedralVolumetricGPU(LAMMPS *lmp)
-    : PairPolyhedralVolumetric(lmp), device_ready(false), pairs_build(-1), device_history_newer(false),
-      num_force_particles(0), sent_particles(0)
+    : PairPolyhedralVolumetric(lmp), device_ready(false), min_pairs(0), min_pieces(0), pairs_on_host(false),
+      steps_on_host(0), pairs_build(-1), device_history_newer(false), num_force_particles(0), sent_particles(0)
 {
 }
 
@@ -36,19 +36,24 @@ PairPolyhedralVolumetricGPU::~PairPolyhedralVolumetricGPU()
   if (!device_ready) return;
   // Where the time went, as LAMMPS' GPU package reports it at the end.
   poly_gpu_timing t = poly_gpu_timings();
-  long wall_calls = 0;
-  double wall_seconds = poly_gpu_wall_seconds(&wall_calls);
-  double local[6] = {t.set_pairs, t.upload, t.kernels, t.download, poly_gpu_bytes() / 1048576.0, wall_seconds}, sum[6];
-  MPI_Reduce(local, sum, 6, MPI_DOUBLE, MPI_SUM, 0, world);
-  if (comm->me == 0 && t.num_compute > 0) {
-    char text[500];
+  double local[12] = {t.set_pairs, t.upload, t.kernels, t.download, poly_gpu_bytes() / 1048576.0, t.wall_seconds,
+                      (double)t.handed_back, (double)t.wall_handed_back, (double)steps_on_host, (double)t.pairs,
+                      (double)t.wall_pieces, (double)t.wall_calls}, sum[12];
+  MPI_Reduce(local, sum, 12, MPI_DOUBLE, MPI_SUM, 0, world);
+  if (comm->me == 0 && (t.num_compute > 0 || t.wall_calls > 0 || steps_on_host > 0)) {
+    char text[900];
     int length = snprintf(text, sizeof text,
-                          "Pair polyhedral/volumetric/gpu (summed over %d ranks): %ld steps, %ld pair uploads; seconds: "
-                          "pair upload %.3f, pose upload %.3f, kernels %.3f, force download %.3f; device memory %.1f "
-                          "MiB\n", comm->nprocs, t.num_compute, t.num_set_pairs, sum[0], sum[1], sum[2], sum[3], sum[4]);
-    if (wall_calls > 0 && length > 0 && length < (int)sizeof text)
-      snprintf(text + length, sizeof text - length, "Fix wall/polyhedral meshes on the GPU (rank 0: %ld calls): "
-               "%.3f seconds summed over ranks, pieces up, overlaps and nodes down\n", wall_calls, sum[5]);
+                          "Pair polyhedral/volumetric/gpu (summed over %d ranks): %ld steps on the GPU (%.0f pairs per "
+                          "step and rank), %.0f on the host (fewer than %ld pairs), %ld pair uploads; seconds: pair "
+                          "upload %.3f, pose upload %.3f, kernels %.3f, force download %.3f; %.0f pairs handed back; "
+                          "device memory %.1f MiB\n",
+                          comm->nprocs, t.num_compute, t.num_compute ? sum[9] / (comm->nprocs * (double)t.num_compute) : 0.0,
+                          sum[8], min_pairs, t.num_set_pairs, sum[0], sum[1], sum[2], sum[3], sum[6], sum[4]);
+    if (sum[11] > 0 && length > 0 && length < (int)sizeof text)
+      snprintf(text + length, sizeof text - length, "Fix wall/polyhedral meshes on the GPU (summed over ranks): %.0f "
+               "calls of %.0f pieces on average (steps of fewer than %ld pieces on the host), %.3f seconds, pieces up, "
+               "overlaps and nodes down; %.0f pieces handed back\n", sum[11], sum[10] / sum[11], min_pieces, sum[5],
+               sum[7]);
     if (screen) fputs(text, screen);
     if (logfile) fputs(text, logfile);
   }
@@ -70,12 +75,14 @@ void PairPolyhedralVolumetricGPU::init_style()
 #else
   PairPolyhedralVolumetric::init_style();
   char message[256];
-  int kernel, lanes;
-  if (poly_gpu_environment(&kernel, &lanes, message, sizeof message) != 0) {
+  poly_gpu_options options;
+  if (poly_gpu_environment(&options, message, sizeof message) != 0) {
     char text[320];
     snprintf(text, sizeof text, "Pair polyhedral/volumetric/gpu: %s", message);
     error->all(FLERR, text);
   }
+  min_pairs = options.min_pairs;
+  min_pieces = options.min_pieces;
   if (poly_gpu_device_count() == 0)
     error->all(FLERR, "Pair polyhedral/volumetric/gpu: no usable CUDA GPU (use pair_style polyhedral/volumetric)");
   // The device keeps history only within one run; a new run starts from LIGGGHTS' lists.
@@ -101,6 +108,22 @@ void PairPolyhedralVolumetricGPU::init_style()
 }
 
 #ifdef POLY_HAVE_CUDA
+// The host's work on this rank's neighbour list, in pairs apart: a pair in contact costs the host's code about
+// kContactWeight pairs whose bodies are apart (measured, doc/gpu.md "Small decks"), the GPU about the same.
+long PairPolyhedralVolumetricGPU::pair_work() const
+{
+  const long kContactWeight = 32;
+  int **first_touch = listgranhistory ? listgranhistory->firstneigh : NULL;
+  long pairs = 0, contacts = 0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    int i = list->ilist[ii], n = list->numneigh[i];
+    pairs += n;
+    if (first_touch)
+      for (int jj = 0; jj < n; jj++) contacts += first_touch[i][jj] != 0;
+  }
+  return pairs + kContactWeight * contacts;
+}
+
 // All pairs of the new neighbour list, with their history from LIGGGHTS.
 void PairPolyhedralVolumetricGPU::send_pairs()
 {
@@ -153,6 +176,19 @@ void PairPolyhedralVolumetricGPU::send_pairs()
 void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
 {
 #ifdef POLY_HAVE_CUDA
+  if (pairs_build != neighbor->ncalls) {
+    // A new neighbour list, with its history in LIGGGHTS' lists: whichever side computes until the next one.
+    pairs_on_host = pair_work() < min_pairs;
+    if (pairs_on_host) {
+      pairs_build = neighbor->ncalls;
+      device_history_newer = false;
+    }
+  }
+  if (pairs_on_host) {
+    steps_on_host++;
+    PairPolyhedralVolumetric::compute(eflag, vflag);
+    return;
+  }
   const bool advance_history = begin_compute(eflag, vflag);
   if (pairs_build != neighbor->ncalls) send_pairs();
 

@@ -29,12 +29,21 @@ class PairPolyhedralVolumetricGPU : public PairPolyhedralVolumetric {
   void compute(int, int);
   void history_to_host();
   double memory_usage();
+  // For fix wall/polyhedral: a step with fewer mesh-wall pieces than this runs them on the host.
+  long wall_pieces_on_gpu_from() const { return min_pieces; }
 
  private:
   void send_pairs();
+  long pair_work() const;
   void gpu_error(const char *message);
 
   bool device_ready;
+  // Small work goes to the host's code (doc/gpu.md, "Small decks"): decided at each neighbour-list build from
+  // the list's pairs on this rank, those in contact weighted (pair_work, POLY_GPU_MIN_PAIRS), and per step from
+  // the mesh-wall pieces (POLY_GPU_MIN_PIECES).
+  long min_pairs, min_pieces;
+  bool pairs_on_host;
+  long steps_on_host;
   bigint pairs_build;                // neighbor->ncalls when the pairs were sent; -1: never
   bool device_history_newer;         // the GPU holds history the neighbour list lacks
   int num_force_particles;

@@ -34,6 +34,14 @@ def gpu_available():
 needs_gpu = pytest.mark.skipif(not gpu_available(), reason="skipped: no GPU")
 
 
+@pytest.fixture(autouse=True)
+def everything_on_the_gpu(monkeypatch):
+    """These tests check the GPU's code, so no work goes back to the host however small (doc/gpu.md, "Small
+    decks"); test_small_work_runs_on_the_host checks the defaults."""
+    monkeypatch.setenv("POLY_GPU_MIN_PAIRS", "0")
+    monkeypatch.setenv("POLY_GPU_MIN_PIECES", "0")
+
+
 def test_cuda_sources_compile_and_link(launcher):
     if not cuda_built():
         pytest.skip("skipped: built without CUDA (no nvcc)")
@@ -85,10 +93,14 @@ def test_gpu_style_without_gpu_is_a_clear_error(run_deck):
 
 @pytest.mark.parametrize("variable,value,expected", [
     ("POLY_GPU_PAIR_KERNEL", "fast", "POLY_GPU_PAIR_KERNEL=fast: expected thread or warp"),
-    ("POLY_GPU_PAIR_LANES", "12", "POLY_GPU_PAIR_LANES=12: expected 8, 16 or 32")])
+    ("POLY_GPU_PAIR_LANES", "12", "POLY_GPU_PAIR_LANES=12: expected 8, 16 or 32"),
+    ("POLY_GPU_WALL_KERNEL", "lanes", "POLY_GPU_WALL_KERNEL=lanes: expected thread or warp"),
+    ("POLY_GPU_MIN_PAIRS", "-3", "POLY_GPU_MIN_PAIRS=-3: expected a whole number, 0 or more"),
+    ("POLY_GPU_MIN_PIECES", "1e3", "POLY_GPU_MIN_PIECES=1e3: expected a whole number, 0 or more")])
 def test_bad_contact_kernel_choice_is_a_clear_error(run_deck, monkeypatch, variable, value, expected):
-    """A mistyped POLY_GPU_PAIR_KERNEL or POLY_GPU_PAIR_LANES stops the GPU style with an ERROR naming it
-    (checked before the GPU is looked for, so hosts without one test it too), not a silent default."""
+    """A mistyped POLY_GPU_* choice (kernels, lanes, the host's share of small work) stops the GPU style with an
+    ERROR naming it (checked before the GPU is looked for, so hosts without one test it too), not a silent
+    default."""
     if not cuda_built():
         pytest.skip("built without CUDA: the style stops for that reason first")
     monkeypatch.setenv(variable, value)
@@ -247,15 +259,18 @@ def test_gpu_history_kept_on_device_matters(run_deck, tmp_path):
 
 
 @needs_gpu
-@pytest.mark.parametrize("precision", ["double", "single", "mixed"])
-def test_gpu_and_cpu_agree_on_mesh_wall_pieces(launcher, precision):
-    """fix wall/polyhedral's mesh narrow phase on the GPU (gpu/poly_gpu_wall.cu) against the host code:
-    2000 particles of each of 8 reference shapes in random poses on a mesh with a concave and a convex
-    crease; every (particle, prism) piece's V and centroid, and every particle's contact combined from
-    its pieces and their nodes (V, centroid, normal, depth), within 1e-10 in double and 1e-4 in single
-    and mixed (the driver exits non-zero above that; its header gives the scales)."""
+@pytest.mark.parametrize("precision,kernel", [("double", "warp"), ("single", "warp"), ("mixed", "warp"),
+                                              ("double", "thread")])
+def test_gpu_and_cpu_agree_on_mesh_wall_pieces(launcher, precision, kernel):
+    """fix wall/polyhedral's mesh narrow phase on the GPU (gpu/poly_gpu_wall.cu; lanes per piece, the
+    default, and one thread per piece, forced by POLY_GPU_WALL_KERNEL) against the host code: 2000 particles
+    of each of 8 reference shapes in random poses on a mesh with a concave and a convex crease; every
+    (particle, prism) piece's V and centroid, and every particle's contact combined from its pieces and
+    their nodes (V, centroid, normal, depth), within 1e-10 in double and 1e-4 in single and mixed (the
+    driver exits non-zero above that; its header gives the scales)."""
     run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_wall_agreement"), str(ROOT / "examples" / "shapes"),
-                          "2000", precision], capture_output=True, text=True)
+                          "2000", precision], capture_output=True, text=True,
+                         env=dict(os.environ, POLY_GPU_WALL_KERNEL=kernel))
     print(run.stdout)
     assert run.returncode == 0, run.stdout + run.stderr
     assert run.stdout.strip().endswith("OK")
@@ -290,3 +305,60 @@ def test_gpu_mesh_walls_match_cpu(run_deck, tmp_path):
           f"GPU: mesh/surface/stress torque vs the particles' side {own:.1e} of {scale:.2e} N m")
     assert worst <= 1e-6, worst
     assert own < 1e-9 * scale, (own, scale)
+
+
+def gpu_summary(output):
+    """Steps of the pair style on the GPU and on the host, and the mesh walls' GPU calls (0 without the line),
+    from the style's summary at the end of a run."""
+    pair = re.search(r"(\d+) steps on the GPU .*?, (\d+) on the host", output)
+    walls = re.search(r"meshes on the GPU \(summed over ranks\): (\d+) calls", output)
+    assert pair, output[-3000:]
+    return int(pair.group(1)), int(pair.group(2)), int(walls.group(1)) if walls else 0
+
+
+@needs_gpu
+def test_small_work_runs_on_the_host(run_deck, tmp_path, monkeypatch):
+    """doc/gpu.md, "Small decks": below POLY_GPU_MIN_PAIRS (a rank's neighbour-list pairs, those in contact
+    counting 32, at each rebuild) and POLY_GPU_MIN_PIECES (a step's mesh-wall pieces) the GPU style runs the
+    host's code. With both out of reach, the packing of 200 particles and the rotating drum (mesh walls)
+    give the CPU style's thermo bit for bit and no GPU call; with a POLY_GPU_MIN_PAIRS between the
+    packing's first and last pair counts, its steps are split between host and GPU over its rebuilds, the
+    history passing between them through LIGGGHTS' lists, and it agrees with the CPU within the GPU packing
+    test's 1e-6."""
+    columns = ("Step", "Atoms", "KinEng", "c_erot", "c_contacts")
+    deck = "run 2000\n"
+    cpu = run_deck(packing("pair_style polyhedral/volumetric\n") + deck, workdir=tmp_path / "cpu")
+    assert cpu.returncode == 0, cpu.output
+    monkeypatch.setenv("POLY_GPU_MIN_PAIRS", "1000000000")
+    monkeypatch.setenv("POLY_GPU_MIN_PIECES", "1000000000")
+    host = run_deck(packing("pair_style polyhedral/volumetric/gpu\n") + deck, workdir=tmp_path / "host")
+    assert host.returncode == 0, host.output
+    assert cpu.thermo(*columns) == host.thermo(*columns)
+    assert gpu_summary(host.output)[:1] == (0,), gpu_summary(host.output)
+    drum = {}
+    for name, pair in (("cpu", "pair_style polyhedral/volumetric\n"), ("host", "pair_style polyhedral/volumetric/gpu\n")):
+        (tmp_path / ("drum_" + name)).mkdir()
+        result = run_deck(drum_deck(tmp_path / ("drum_" + name), pair=pair, processors="1 1 1"),
+                          workdir=tmp_path / ("drum_" + name) / "run")
+        assert result.returncode == 0, result.output[-3000:]
+        drum[name] = result
+    drum_columns = ("Step", "Atoms", "KinEng", "f_drum[4]", "f_dmesh[4]", "f_dmesh[5]", "f_dmesh[6]")
+    assert drum["cpu"].thermo(*drum_columns) == drum["host"].thermo(*drum_columns)
+    assert gpu_summary(drum["host"].output)[0] == 0 and gpu_summary(drum["host"].output)[2] == 0
+
+    # Split: the packing's pairs grow as it settles; a threshold between its smallest and largest work.
+    monkeypatch.setenv("POLY_GPU_MIN_PAIRS", "0")
+    all_gpu = run_deck(packing("pair_style polyhedral/volumetric/gpu\n") + deck, workdir=tmp_path / "gpu")
+    assert all_gpu.returncode == 0, all_gpu.output
+    mean = float(re.search(r"steps on the GPU \((\d+) pairs per step", all_gpu.output).group(1))
+    monkeypatch.setenv("POLY_GPU_MIN_PAIRS", str(int(mean)))
+    split = run_deck(packing("pair_style polyhedral/volumetric/gpu\n") + deck, workdir=tmp_path / "split")
+    assert split.returncode == 0, split.output
+    on_gpu, on_host, _ = gpu_summary(split.output)
+    print(f"packing, POLY_GPU_MIN_PAIRS={int(mean)}: {on_gpu} steps on the GPU, {on_host} on the host")
+    assert on_gpu > 0 and on_host > 0
+    a, b = cpu.thermo(*columns), split.thermo(*columns)
+    assert a["Step"] == b["Step"] and a["c_contacts"] == b["c_contacts"]
+    worst = max(abs(x - y) / max(abs(x), 1e-12) for column in ("KinEng", "c_erot") for x, y in zip(a[column], b[column]))
+    print(f"split between host and GPU vs CPU: largest relative energy difference {worst:.2e}")
+    assert worst <= 1e-6, worst

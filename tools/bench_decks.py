@@ -45,7 +45,6 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
-import fit_multisphere  # noqa: E402
 
 POLY = ROOT / "build" / "bin" / "liggghts-poly"
 STOCK = shutil.which("liggghts") or str(POLY)
@@ -202,6 +201,7 @@ CASES = {
 def multisphere_variables(case):
     """-var pairs of in.pile_multisphere: the template, its sphere count, the mesh's mass and inertia tensor
     about its centre of mass, and the template's volume coverage of the mesh."""
+    import fit_multisphere  # numpy: only the multisphere piles need it (tools/bench_gpu_decks.py runs without)
     vertices, triangles = fit_multisphere.read_mesh(case["mesh"])
     volume, centre, inertia = fit_multisphere.mass_properties(vertices, triangles)
     centres, radii, _ = fit_multisphere.read_template(case["template"])

@@ -4,7 +4,8 @@
 # no Debian package archive:
 #
 #   bash tools/bundle_runtime.sh [OUT] [--with-tests]   # default OUT: runtime/ ; needs apt-get here
-#   (--with-tests adds Debian's pytest, to run tests/test_gpu.py there)
+#   (--with-tests adds Debian's pytest and LIGGGHTS' tutorials (liggghts-doc), to run tests/test_gpu.py and
+#    tools/bench_gpu_decks.py there)
 #   (copy OUT and build/ to the GPU host)
 #   source OUT/env.sh && liggghts-poly -in in.script
 #   source OUT/env.sh && mpirun -np 4 liggghts-poly -in in.script
@@ -32,7 +33,8 @@ done
 # The C library and its loader come from the host.
 mapfile -t packages < <(printf '%s\n' "${packages[@]}" | sort -u | grep -v -x -e libc6 -e libc6-dev)
 if [ "$with_tests" = "--with-tests" ]; then
-  packages+=(python3-pytest python3-pluggy python3-iniconfig python3-packaging)
+  # liggghts-doc: LIGGGHTS' tutorials, for tests/test_tutorial_decks.py and tools/bench_gpu_decks.py
+  packages+=(python3-pytest python3-pluggy python3-iniconfig python3-packaging liggghts-doc)
 fi
 
 rm -rf "$out"

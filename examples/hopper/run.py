@@ -96,6 +96,7 @@ def parse_runner_arguments(p, here):
     p.add_argument("--skip", choices=["rock", "spheres"], default=None, help="leave one of the runs out")
     p.add_argument("--launcher", default=str(ROOT / "build" / "bin" / "liggghts-poly"))
     p.add_argument("--liggghts", default=shutil.which("liggghts"))
+    p.add_argument("--suffix", default=None, help="run the rocks with -suffix SUFFIX (gpu: on the GPU)")
     p.add_argument("--out", default=str(here / "post"))
     p.add_argument("--no-report", action="store_true")
     a = p.parse_args()
@@ -132,7 +133,8 @@ def main():
     common = [repr(x) if isinstance(x, float) else str(x) for x in common]
     jobs = []
     if a.skip != "rock":
-        jobs.append(([a.launcher, "-in", str(HERE / "in.hopper")] + common +
+        suffix = ["-suffix", a.suffix] if a.suffix else []
+        jobs.append(([a.launcher] + suffix + ["-in", str(HERE / "in.hopper")] + common +
                      ["-var", "shape", a.shape, "-var", "SHAPES", str(ROOT / "examples" / "shapes"),
                       "-log", "log.hopper_rock"], "log.hopper_rock"))
     if a.skip != "spheres":

@@ -106,7 +106,8 @@ def main():
     jobs = []
     if a.skip != "rock":
         mpi = ["mpirun", "-np", str(a.np)] if a.np > 1 else []
-        jobs.append((mpi + [a.launcher, "-in", str(HERE / "in.mill")] + common +
+        suffix = ["-suffix", a.suffix] if a.suffix else []
+        jobs.append((mpi + [a.launcher] + suffix + ["-in", str(HERE / "in.mill")] + common +
                      ["-var", "rb", repr(c["rb"]), "-var", "shape", a.shape,
                       "-var", "SHAPES", str(ROOT / "examples" / "shapes"), "-log", "log.mill_rock"], "log.mill_rock"))
     if a.skip != "spheres":
