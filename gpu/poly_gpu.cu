@@ -38,6 +38,12 @@ struct PairForce {
   double force_j[3], torque_i[3], torque_j[3];
 };
 
+// Per pair, when the host needs each pair (poly_gpu_result): the rest of it, its forces being in PairForce.
+struct PairGeometry {
+  int contact, pair;
+  double volume, depth, normal[3], centroid[3], normal_force, tangential_force[3];
+};
+
 struct State {
   bool ready;
   DeviceShapes shapes;
@@ -49,14 +55,19 @@ struct State {
   DeviceArray<int> contact;
   DeviceArray<int> touching;        // compact list of pairs whose bounding spheres overlap
   DeviceArray<int> counters;        // [0] touching pairs, [1] contacts, [2] pairs the warp kernel handed back,
-                                    // [3] touching pairs of shapes beyond the warp kernel's limits
+                                    // [3] touching pairs of shapes beyond the warp kernel's limits, [4] pairs kept
+  DeviceArray<int> slot;            // per pair: its place in pair_force and results, -1 where the pre-filter
+                                    // dropped it (most of a packed bed's pairs: no per-pair arrays for them)
+  int num_kept;                     // pairs the last pre-filter kept: the size of pair_force and results
   DeviceArray<int> handed_back;     // the pairs of [2]
   DeviceArray<int> large;           // the pairs of [3]
   poly_gpu_options options;         // the kernel choices (poly_gpu_environment)
   bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
-  DeviceArray<poly_gpu_result> results;
+  DeviceArray<PairGeometry> results;
+  PinnedArray<PairGeometry> host_results;     // the kept pairs' results and forces, before they go to the
+  PinnedArray<PairForce> host_pair_force;     // caller's places
   DeviceArray<int> csr_offsets, csr_entries;  // per force particle: 2 * pair + (0: as i, 1: as j)
   DeviceArray<double> force_torque;
   DeviceArray<poly_material_pair> materials;
@@ -75,28 +86,36 @@ __device__ inline bool beyond(const DeviceShapes &shapes, int shape_i, int shape
   return beyond_limits(shapes, shape_i, limits) || beyond_limits(shapes, shape_j, limits);
 }
 
-// Appends p to `list` where `take` (one atomic per warp on *counter).
-__device__ inline void append(int take, int p, int *__restrict__ list, int *__restrict__ counter)
+// A place from *counter for each lane where `take` (one atomic per warp), -1 elsewhere.
+__device__ inline int reserve(int take, int *__restrict__ counter)
 {
   unsigned ballot = __ballot_sync(0xffffffffu, take);
-  if (!ballot) return;
+  if (!ballot) return -1;
   int lane = threadIdx.x & 31, leader = __ffs(ballot) - 1, base = 0;
   if (lane == leader) base = atomicAdd(counter, __popc(ballot));
   base = __shfl_sync(0xffffffffu, base, leader);
-  if (take) list[base + __popc(ballot & ((1u << lane) - 1u))] = p;
+  return take ? base + __popc(ballot & ((1u << lane) - 1u)) : -1;
+}
+
+// Appends p to `list` where `take` (one atomic per warp on *counter).
+__device__ inline void append(int take, int p, int *__restrict__ list, int *__restrict__ counter)
+{
+  int place = reserve(take, counter);
+  if (take) list[place] = p;
 }
 
 // Pairs whose bounding spheres overlap, and whose bodies overlap along the
 // centre line, go to the compact list `touching` (counters[0]), or, when the
 // warp kernel runs (limits.bytes > 0) and a shape exceeds its limits, to
-// `large` (counters[3]) for the one-thread kernel; the others are cleared: no
-// contact, no history, no force.
+// `large` (counters[3]) for the one-thread kernel, and get a slot (counters[4])
+// in the per-pair arrays pair_force and results; the others are cleared: no
+// contact, no history, no slot (their force is zero).
 template <int Precision>
 __global__ void __launch_bounds__(kThreads)
     bounding_kernel(DeviceShapes shapes, int num_pairs, const int *__restrict__ pair_i,
                     const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
                     const poly_gpu_motion *__restrict__ motion, int *__restrict__ contact,
-                    double *__restrict__ history, PairForce *__restrict__ pair_force, int *__restrict__ touching,
+                    double *__restrict__ history, int *__restrict__ slot, int *__restrict__ touching,
                     int *__restrict__ large, WarpLimits limits, int *__restrict__ counters)
 {
   typedef Narrow<Precision> N;
@@ -119,11 +138,11 @@ __global__ void __launch_bounds__(kThreads)
     if (!take) {
       contact[p] = 0;
       for (int d = 0; d < POLY_HISTORY_SIZE; d++) history[POLY_HISTORY_SIZE * p + d] = 0.0;
-      PairForce zero = {};
-      pair_force[p] = zero;
     }
   }
   // Every lane of the warp gets here (blocks are whole warps).
+  int place = reserve(take, counters + 4);
+  if (p < num_pairs) slot[p] = place;
   int to_large = take && limits.bytes > 0 && beyond(shapes, particles[pair_i[p]].shape, particles[pair_j[p]].shape,
                                                     limits);
   append(take && !to_large, p, touching, counters);
@@ -137,17 +156,19 @@ __device__ __forceinline__ void finish_pair(int p, const poly_gpu_particle &body
                             const poly_overlap_result &geometry, const double *local_centroid,
                             const double *local_normal, const poly_material_pair *__restrict__ materials,
                             int num_types, const poly_gpu_settings &settings, int *__restrict__ contact,
-                            double *__restrict__ history, PairForce *__restrict__ pair_force,
-                            poly_gpu_result *__restrict__ results, int *__restrict__ counters)
+                            double *__restrict__ history, const int *__restrict__ slot,
+                            PairForce *__restrict__ pair_force, PairGeometry *__restrict__ results,
+                            int *__restrict__ counters)
 {
   double *pair_history = history + POLY_HISTORY_SIZE * p;
+  const int place = slot[p];
   double negligible = body_i.negligible_volume < body_j.negligible_volume ? body_i.negligible_volume
                                                                           : body_j.negligible_volume;
   if (!(geometry.volume > negligible) || !(geometry.depth > 0.0)) {
     contact[p] = 0;
     for (int d = 0; d < POLY_HISTORY_SIZE; d++) pair_history[d] = 0.0;
     PairForce zero = {};
-    pair_force[p] = zero;
+    pair_force[place] = zero;
     return;
   }
   poly_contact_input input;
@@ -177,23 +198,20 @@ __device__ __forceinline__ void finish_pair(int p, const poly_gpu_particle &body
     out.torque_i[k] = law.torque_i[k];
     out.torque_j[k] = law.torque_j[k];
   }
-  pair_force[p] = out;
+  pair_force[place] = out;
   if (results) {
-    poly_gpu_result r;
-    memset(&r, 0, sizeof r);
+    PairGeometry r;
     r.contact = 1;
+    r.pair = p;
     r.volume = geometry.volume;
     r.depth = geometry.depth;
     r.normal_force = law.normal_force;
     for (int k = 0; k < 3; k++) {
-      r.force_j[k] = law.force_j[k];
-      r.torque_i[k] = law.torque_i[k];
-      r.torque_j[k] = law.torque_j[k];
       r.normal[k] = input.normal[k];
       r.centroid[k] = input.centroid[k];
       r.tangential_force[k] = law.tangential_force[k];
     }
-    results[p] = r;
+    results[place] = r;
   }
 }
 
@@ -205,8 +223,9 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
                    const int *__restrict__ pair_i, const int *__restrict__ pair_j,
                    const poly_gpu_particle *__restrict__ particles, const poly_gpu_motion *__restrict__ motion,
                    const poly_material_pair *__restrict__ materials, int num_types, poly_gpu_settings settings,
-                   int *__restrict__ contact, double *__restrict__ history, PairForce *__restrict__ pair_force,
-                   poly_gpu_result *__restrict__ results, int *__restrict__ counters, char *__restrict__ scratch,
+                   int *__restrict__ contact, double *__restrict__ history, const int *__restrict__ slot,
+                   PairForce *__restrict__ pair_force, PairGeometry *__restrict__ results,
+                   int *__restrict__ counters, char *__restrict__ scratch,
                    size_t bytes_per_thread)
 {
   typedef Narrow<Precision> N;
@@ -233,7 +252,7 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
     N::overlap(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
   }
   finish_pair(p, body_i, body_j, state_i, state_j, rotation_i, geometry, local_centroid, local_normal, materials,
-              num_types, settings, contact, history, pair_force, results, counters);
+              num_types, settings, contact, history, slot, pair_force, results, counters);
 }
 
 // One warp per pair of `list` (poly_gpu_warp_impl.cuh), each warp with its
@@ -246,8 +265,9 @@ __global__ void __launch_bounds__(kThreads)
                         const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
                         const poly_gpu_motion *__restrict__ motion, const poly_material_pair *__restrict__ materials,
                         int num_types, poly_gpu_settings settings, int *__restrict__ contact,
-                        double *__restrict__ history, PairForce *__restrict__ pair_force,
-                        poly_gpu_result *__restrict__ results, int *__restrict__ counters,
+                        double *__restrict__ history, const int *__restrict__ slot,
+                        PairForce *__restrict__ pair_force, PairGeometry *__restrict__ results,
+                        int *__restrict__ counters,
                         int *__restrict__ handed_back, WarpLimits limits)
 {
   typedef Narrow<Precision> N;
@@ -280,19 +300,20 @@ __global__ void __launch_bounds__(kThreads)
     return;
   }
   finish_pair(p, body_i, body_j, state_i, state_j, rotation_i, geometry, local_centroid, local_normal, materials,
-              num_types, settings, contact, history, pair_force, results, counters);
+              num_types, settings, contact, history, slot, pair_force, results, counters);
 }
 
 // Force and torque on each force particle: its pairs in a fixed order.
-__global__ void reduce_kernel(int num_force_particles, const int *offsets, const int *entries,
+__global__ void reduce_kernel(int num_force_particles, const int *offsets, const int *entries, const int *slot,
                               const PairForce *pair_force, double *force_torque)
 {
   int n = blockIdx.x * blockDim.x + threadIdx.x;
   if (n >= num_force_particles) return;
   double sum[6] = {0, 0, 0, 0, 0, 0};
   for (int e = offsets[n]; e < offsets[n + 1]; e++) {
-    int entry = entries[e];
-    const PairForce &pf = pair_force[entry >> 1];
+    int entry = entries[e], place = slot[entry >> 1];
+    if (place < 0) continue;  // dropped by the pre-filter: no force
+    const PairForce &pf = pair_force[place];
     if (entry & 1)
       for (int k = 0; k < 3; k++) {
         sum[k] += pf.force_j[k];
@@ -328,7 +349,7 @@ template <typename T> bool upload_raw(T **device, const std::vector<T> &host, ch
 // workspaces, else in batches of threads whose workspaces fit in a bounded
 // scratch buffer.
 template <int Precision>
-bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int count, poly_gpu_result *device_results,
+bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int count, PairGeometry *device_results,
                      char *message, size_t size)
 {
   typedef Narrow<Precision> N;
@@ -338,7 +359,7 @@ bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int cou
   if (workspace <= LocalWorkspace<Precision>::bytes) {
     contact_kernel<Precision, LocalWorkspace<Precision>::bytes><<<(count + kThreads - 1) / kThreads, kThreads>>>(
         s, list, 0, count, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
-        state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+        state.materials.data, state.num_types, settings, state.contact.data, state.history.data, state.slot.data,
         state.pair_force.data, device_results, state.counters.data, NULL, 0);
     return check(cudaGetLastError(), "contact kernel launch", message, size);
   }
@@ -351,7 +372,7 @@ bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int cou
     int chunk = (int)((size_t)count - first < batch ? (size_t)count - first : batch);
     contact_kernel<Precision, 0><<<(chunk + kThreads - 1) / kThreads, kThreads>>>(
         s, list, (int)first, chunk, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
-        state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+        state.materials.data, state.num_types, settings, state.contact.data, state.history.data, state.slot.data,
         state.pair_force.data, device_results, state.counters.data, state.scratch.data, workspace);
     if (!check(cudaGetLastError(), "contact kernel launch", message, size)) return false;
   }
@@ -401,24 +422,36 @@ template <int Precision> bool use_warp_kernel()
 // per pair, then a thread per pair for those the warps handed back (or for all,
 // when use_warp_kernel says so or no shape fits the warp kernel).
 template <int Precision>
-bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_results, char *message, size_t size)
+bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *message, size_t size)
 {
   const DeviceShapes &s = state.shapes;
   const int num_pairs = state.num_pairs;
+  state.num_kept = 0;
   if (num_pairs == 0) return true;
   WarpLimits limits = {0, 0, 0, 0, 0, 32};
   if (use_warp_kernel<Precision>()) limits = warp_limits_of<Precision>(0, 0, 0);
   if (limits.bytes > 0 && !ensure(state.large, num_pairs, message, size)) return false;
   bounding_kernel<Precision><<<(num_pairs + kThreads - 1) / kThreads, kThreads>>>(
       s, num_pairs, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
-      state.contact.data, state.history.data, state.pair_force.data, state.touching.data, state.large.data, limits,
+      state.contact.data, state.history.data, state.slot.data, state.touching.data, state.large.data, limits,
       state.counters.data);
-  int counts[4] = {0, 0, 0, 0};
+  int counts[5] = {0, 0, 0, 0, 0};
   if (!check(cudaGetLastError(), "bounding kernel launch", message, size) ||
       !check(cudaMemcpy(counts, state.counters.data, sizeof counts, cudaMemcpyDeviceToHost), "bounding kernel",
              message, size))
     return false;
   const int num_touching = counts[0], num_large = counts[3];
+  // The per-pair arrays for the kept pairs only.
+  state.num_kept = counts[4];
+  PairGeometry *device_results = NULL;
+  if (!ensure(state.pair_force, state.num_kept, message, size)) return false;
+  if (want_results) {
+    if (!ensure(state.results, state.num_kept, message, size) ||
+        !check(cudaMemset(state.results.data, 0, sizeof(PairGeometry) * (state.num_kept > 0 ? state.num_kept : 1)),
+               "cudaMemset", message, size))
+      return false;
+    device_results = state.results.data;
+  }
   if (limits.bytes == 0)
     return thread_per_pair<Precision>(settings, state.touching.data, num_touching, device_results, message, size);
   if (!thread_per_pair<Precision>(settings, state.large.data, num_large, device_results, message, size))
@@ -431,7 +464,7 @@ bool narrow_phase(const poly_gpu_settings &settings, poly_gpu_result *device_res
   warp_contact_kernel<Precision><<<(num_touching + grid.groups - 1) / grid.groups, grid.threads, grid.shared>>>(
       s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
       state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
-      state.pair_force.data, device_results, state.counters.data, state.handed_back.data, limits);
+      state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_back.data, limits);
   int num_handed = 0;
   if (!check(cudaGetLastError(), "warp kernel launch", message, size) ||
       !check(cudaMemcpy(&num_handed, state.counters.data + 2, sizeof(int), cudaMemcpyDeviceToHost), "warp kernel",
@@ -587,7 +620,7 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
             upload_raw(&s.triangles, triangles, message, message_size) &&
             upload_raw(&s.edges, edges, message, message_size) &&
             upload_raw(&s.edge_triangles, edge_triangles, message, message_size) &&
-            ensure(state.counters, 4, message, message_size);
+            ensure(state.counters, 5, message, message_size);
   if (!ok) return -1;
   state.ready = true;
   return 0;
@@ -634,7 +667,7 @@ extern "C" int poly_gpu_set_pairs(int num_particles, int num_force_particles, co
             upload(state.materials, materials, num_materials, message, message_size) &&
             ensure(state.contact, num_pairs, message, message_size) &&
             ensure(state.touching, num_pairs, message, message_size) &&
-            ensure(state.pair_force, num_pairs, message, message_size) &&
+            ensure(state.slot, num_pairs, message, message_size) &&
             ensure(state.motion, num_particles, message, message_size) &&
             ensure(state.force_torque, 6 * (size_t)num_force_particles, message, message_size) &&
             ensure(state.host_motion, num_particles, message, message_size) &&
@@ -669,29 +702,23 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
   double start = now();
   if (!check(cudaMemcpy(state.motion.data, state.host_motion.data, sizeof(poly_gpu_motion) * state.num_particles,
                         cudaMemcpyHostToDevice), "upload motion", message, message_size) ||
-      !check(cudaMemset(state.counters.data, 0, 4 * sizeof(int)), "cudaMemset", message, message_size))
+      !check(cudaMemset(state.counters.data, 0, 5 * sizeof(int)), "cudaMemset", message, message_size))
     return -1;
   double uploaded = now();
 
   const int threads = kThreads;
   int counters[2] = {0, 0};
-  poly_gpu_result *device_results = NULL;
-  if (results) {
-    if (!ensure(state.results, num_pairs, message, message_size) ||
-        !check(cudaMemset(state.results.data, 0, sizeof(poly_gpu_result) * (num_pairs > 0 ? num_pairs : 1)),
-               "cudaMemset", message, message_size))
-      return -1;
-    device_results = state.results.data;
-  }
+  const bool want_results = results != NULL;
   bool ok = settings->precision == POLY_PRECISION_DOUBLE
-                ? narrow_phase<POLY_PRECISION_DOUBLE>(*settings, device_results, message, message_size)
+                ? narrow_phase<POLY_PRECISION_DOUBLE>(*settings, want_results, message, message_size)
             : settings->precision == POLY_PRECISION_MIXED
-                ? narrow_phase<POLY_PRECISION_MIXED>(*settings, device_results, message, message_size)
-                : narrow_phase<POLY_PRECISION_SINGLE>(*settings, device_results, message, message_size);
+                ? narrow_phase<POLY_PRECISION_MIXED>(*settings, want_results, message, message_size)
+                : narrow_phase<POLY_PRECISION_SINGLE>(*settings, want_results, message, message_size);
   if (!ok) return -1;
   if (!results && state.num_force_particles > 0) {
     reduce_kernel<<<(state.num_force_particles + threads - 1) / threads, threads>>>(
-        state.num_force_particles, state.csr_offsets.data, state.csr_entries.data, state.pair_force.data,
+        state.num_force_particles, state.csr_offsets.data, state.csr_entries.data, state.slot.data,
+        state.pair_force.data,
         state.force_torque.data);
     if (!check(cudaGetLastError(), "reduction kernel launch", message, message_size)) return -1;
   }
@@ -701,9 +728,35 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
              message, message_size))
     return -1;
   if (results) {
-    if (num_pairs > 0 && !check(cudaMemcpy(results, device_results, sizeof(poly_gpu_result) * num_pairs,
-                                           cudaMemcpyDeviceToHost), "download results", message, message_size))
+    // The kept pairs' results and forces, each to its pair's place; the others have no contact.
+    const int kept = state.num_kept;
+    if (!ensure(state.host_results, kept > 0 ? kept : 1, message, message_size) ||
+        !ensure(state.host_pair_force, kept > 0 ? kept : 1, message, message_size) ||
+        (kept > 0 && !check(cudaMemcpy(state.host_results.data, state.results.data, sizeof(PairGeometry) * kept,
+                                       cudaMemcpyDeviceToHost), "download results", message, message_size)) ||
+        (kept > 0 && !check(cudaMemcpy(state.host_pair_force.data, state.pair_force.data, sizeof(PairForce) * kept,
+                                       cudaMemcpyDeviceToHost), "download pair forces", message, message_size)))
       return -1;
+    memset(results, 0, sizeof(poly_gpu_result) * (num_pairs > 0 ? num_pairs : 1));
+    for (int k = 0; k < kept; k++) {
+      const PairGeometry &g = state.host_results.data[k];
+      const PairForce &f = state.host_pair_force.data[k];
+      if (!g.contact) continue;
+      poly_gpu_result &r = results[g.pair];
+      r.contact = 1;
+      r.pair = g.pair;
+      r.volume = g.volume;
+      r.depth = g.depth;
+      r.normal_force = g.normal_force;
+      for (int d = 0; d < 3; d++) {
+        r.force_j[d] = f.force_j[d];
+        r.torque_i[d] = f.torque_i[d];
+        r.torque_j[d] = f.torque_j[d];
+        r.normal[d] = g.normal[d];
+        r.centroid[d] = g.centroid[d];
+        r.tangential_force[d] = g.tangential_force[d];
+      }
+    }
   } else if (state.num_force_particles > 0 &&
              !check(cudaMemcpy(state.host_force_torque.data, state.force_torque.data,
                                6 * sizeof(double) * state.num_force_particles, cudaMemcpyDeviceToHost),
@@ -744,7 +797,7 @@ extern "C" size_t poly_gpu_bytes(void)
   return bytes_of(state.particles) + bytes_of(state.motion) + bytes_of(state.pair_i) + bytes_of(state.pair_j) +
          bytes_of(state.history) + bytes_of(state.contact) + bytes_of(state.touching) + bytes_of(state.counters) +
          bytes_of(state.handed_back) + bytes_of(state.large) +
-         bytes_of(state.pair_force) + bytes_of(state.results) + bytes_of(state.csr_offsets) +
+         bytes_of(state.slot) + bytes_of(state.pair_force) + bytes_of(state.results) + bytes_of(state.csr_offsets) +
          bytes_of(state.csr_entries) + bytes_of(state.force_torque) + bytes_of(state.materials) +
          bytes_of(state.scratch) + wall_bytes();
 }
@@ -755,7 +808,9 @@ extern "C" void poly_gpu_clear(void)
   release(state.particles); release(state.motion); release(state.pair_i); release(state.pair_j);
   release(state.history); release(state.contact); release(state.touching); release(state.counters);
   release(state.handed_back); release(state.large);
-  release(state.pair_force); release(state.results); release(state.csr_offsets); release(state.csr_entries);
+  release(state.slot); release(state.pair_force); release(state.results); release(state.host_results);
+  release(state.host_pair_force);
+  release(state.csr_offsets); release(state.csr_entries);
   release(state.force_torque); release(state.materials); release(state.scratch);
   release(state.host_motion); release(state.host_force_torque);
   wall_clear();

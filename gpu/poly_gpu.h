@@ -73,7 +73,7 @@ typedef struct poly_gpu_settings {
 
 /* Per pair, when asked for. contact = 0: no contact. */
 typedef struct poly_gpu_result {
-  int contact, pad;
+  int contact, pair;             /* pair: its index among the pairs of poly_gpu_set_pairs */
   double force_j[3], torque_i[3], torque_j[3];
   double volume, depth, normal[3], centroid[3], normal_force, tangential_force[3];
 } poly_gpu_result;

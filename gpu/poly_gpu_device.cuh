@@ -68,7 +68,7 @@ template <typename T> bool ensure(DeviceArray<T> &a, size_t count, char *message
   cudaFree(a.data);
   a.data = NULL;
   a.capacity = 0;
-  size_t grown = count + count / 4 + 64;
+  size_t grown = count + count / 8 + 64;  // room for the next rebuild's few more, not a quarter more
   if (!check(cudaMalloc((void **)&a.data, sizeof(T) * grown), "cudaMalloc", message, size)) return false;
   a.capacity = grown;
   return true;
@@ -80,7 +80,7 @@ template <typename T> bool ensure(PinnedArray<T> &a, size_t count, char *message
   cudaFreeHost(a.data);
   a.data = NULL;
   a.capacity = 0;
-  size_t grown = count + count / 4 + 64;
+  size_t grown = count + count / 8 + 64;  // room for the next rebuild's few more, not a quarter more
   if (!check(cudaMallocHost((void **)&a.data, sizeof(T) * grown), "cudaMallocHost", message, size)) return false;
   a.capacity = grown;
   return true;
