@@ -42,6 +42,8 @@ class FixWallPolyhedral : public Fix {
   void setup(int);
   void post_force(int);
   double compute_vector(int);
+  // The meshes of a `mesh` wall (none for a primitive), e.g. for fix check/timestep/polyhedral.
+  const std::vector<class FixMeshSurface *> &wall_meshes() const { return meshes; }
 
   // One triangle's share of a particle's contact with a mesh.
   struct MeshPiece {

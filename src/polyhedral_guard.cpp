@@ -40,6 +40,9 @@ const Guard kGuards[] = {
     {"wall/gran",
      "Fix wall/gran treats polyhedra as their bounding spheres; with atom_style polyhedron use fix "
      "wall/polyhedral (same 'primitive type T wallstyle args' or 'mesh n_meshes K meshes ...' arguments)"},
+    {"check/timestep/gran",
+     "Fix check/timestep/gran needs pair gran and spheres; with atom_style polyhedron use fix "
+     "check/timestep/polyhedral (same 'nevery fraction_rayleigh fraction_hertz' arguments and output vector)"},
     {"adapt", NULL},
     {"ave/euler", POLY_EULER_MESSAGE("ave/euler")},
     {"ave/euler/stress", POLY_EULER_MESSAGE("ave/euler/stress")},

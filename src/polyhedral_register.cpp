@@ -57,6 +57,7 @@
 #include "fix_particletemplate_polyhedron.h"
 #include "liggghts_member.h"
 #include "pair_polyhedral_volumetric.h"
+#include "fix_check_timestep_polyhedral.h"
 #include "pair_polyhedral_volumetric_gpu.h"
 #include "polyhedral_guard.h"
 
@@ -117,6 +118,7 @@ void register_styles(LAMMPS *lmp)
   fixes[FixContactHistoryPolyhedral::creation_style()] = &create_fix<FixContactHistoryPolyhedral>;
   fixes["nve/polyhedron"] = &create_fix<FixNVEPolyhedron>;
   fixes["wall/polyhedral"] = &create_fix<FixWallPolyhedral>;
+  fixes["check/timestep/polyhedral"] = &create_fix<FixCheckTimestepPolyhedral>;
   computes["erotate/polyhedron"] = &create_compute<ComputeERotatePolyhedron>;
   computes["property/polyhedron"] = &create_compute<ComputePropertyPolyhedron>;
   computes["pair/polyhedral/local"] = &create_compute<ComputePairPolyhedralLocal>;
