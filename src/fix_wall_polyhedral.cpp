@@ -41,6 +41,13 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
   int iarg = 3;
   while (iarg < narg) {
     const char *key = arg[iarg];
+    // LIGGGHTS' fix wall/gran keywords a converted deck keeps (model hertz, ...), before the wall itself.
+    if (!have_plane && meshes.empty() &&
+        PairPolyhedralVolumetric::liggghts_model_keyword(lmp, "Fix wall/polyhedral", key,
+                                                         iarg + 1 < narg ? arg[iarg + 1] : NULL)) {
+      iarg += 2;
+      continue;
+    }
     if ((strcmp(key, "tangential") == 0 || strcmp(key, "damping") == 0 || strcmp(key, "rocking_damping") == 0) &&
         iarg + 1 < narg) {
       const char *value = arg[iarg + 1];
@@ -112,7 +119,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
       char message[256];
       snprintf(message, sizeof message,
                "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, rocking_damping, thickness, sagitta, "
-               "closed_side, primitive, mesh)", key);
+               "closed_side, primitive, mesh; LIGGGHTS' model, cohesion, rolling_friction, surface)", key);
       error->all(FLERR, message);
     }
   }

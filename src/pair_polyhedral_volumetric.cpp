@@ -80,6 +80,7 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
     }
     const char *key = arg[iarg], *value = arg[iarg + 1];
     bool ok = true;
+    if (liggghts_model_keyword(lmp, "Pair polyhedral/volumetric", key, value)) continue;
     if (strcmp(key, "tangential") == 0) {
       ok = strcmp(value, "history") == 0 || strcmp(value, "off") == 0;
       tangential_history = strcmp(value, "history") == 0;
@@ -97,7 +98,8 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
     } else {
       char message[256];
       snprintf(message, sizeof message,
-               "Pair polyhedral/volumetric: unknown keyword '%s' (tangential, damping, rocking_damping, precision)",
+               "Pair polyhedral/volumetric: unknown keyword '%s' (tangential, damping, rocking_damping, precision; "
+               "LIGGGHTS' model, cohesion, rolling_friction, surface)",
                key);
       error->all(FLERR, message);
     }
@@ -107,6 +109,47 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
       error->all(FLERR, message);
     }
   }
+}
+
+bool PairPolyhedralVolumetric::liggghts_model_keyword(LAMMPS *lmp, const char *caller, const char *key,
+                                                      const char *value)
+{
+  static const char *const kAccepted[][2] = {
+      {"model", "hertz"}, {"cohesion", "off"}, {"rolling_friction", "off"}, {"surface", "default"}};
+  const bool known = strcmp(key, "model") == 0 || strcmp(key, "cohesion") == 0 ||
+                     strcmp(key, "rolling_friction") == 0 || strcmp(key, "surface") == 0 ||
+                     (strcmp(key, "tangential") == 0 && value && strcmp(value, "no_history") == 0);
+  if (!known) return false;
+  char message[600];
+  if (!value) {
+    snprintf(message, sizeof message, "%s: keyword '%s' needs a value", caller, key);
+    lmp->error->all(FLERR, message);
+  }
+  for (size_t k = 0; k < sizeof kAccepted / sizeof kAccepted[0]; k++)
+    if (strcmp(key, kAccepted[k][0]) == 0 && strcmp(value, kAccepted[k][1]) == 0) return true;
+  if (strcmp(key, "model") == 0)
+    snprintf(message, sizeof message,
+             "%s: model %s: the volumetric law is Hertz-Mindlin generalised to overlap volumes and has no %s "
+             "variant; use model hertz (or leave 'model' out)", caller, value,
+             strncmp(value, "hooke", 5) == 0 ? "linear (Hooke)" : "such");
+  else if (strcmp(key, "tangential") == 0)
+    snprintf(message, sizeof message,
+             "%s: tangential no_history (a viscous tangential force without a spring) has no counterpart here; use "
+             "tangential history (Mindlin-Deresiewicz with its history, the default) or tangential off", caller);
+  else if (strcmp(key, "rolling_friction") == 0)
+    snprintf(message, sizeof message,
+             "%s: rolling_friction %s: polyhedra roll over their edges and vertices, so their shape resists rolling "
+             "as a real grain's does (spheres need a rolling-friction model for it); leave the keyword out or use "
+             "rolling_friction off", caller, value);
+  else if (strcmp(key, "cohesion") == 0)
+    snprintf(message, sizeof message,
+             "%s: cohesion %s is not available for polyhedra; remove it (cohesion off) or model the deck with "
+             "spheres", caller, value);
+  else
+    snprintf(message, sizeof message, "%s: surface %s has no counterpart here; use surface default or leave it out",
+             caller, value);
+  lmp->error->all(FLERR, message);
+  return true;
 }
 
 // pair_coeff * *: the materials come from fix property/global.

@@ -52,6 +52,10 @@ class PairPolyhedralVolumetric : public Pair {
   const poly_degenerate_counts &degenerate_counts() const { return degenerate; }
 
   // The effective materials of all type pairs (fix wall/polyhedral builds its own with its switches).
+  // LIGGGHTS' contact-model keywords of pair gran and fix wall/gran, as a converted deck keeps them (model,
+  // cohesion, rolling_friction, surface; tangential no_history): accepted where they say what this law does
+  // anyway, else an ERROR naming the alternative. Returns whether `key` was one of them.
+  static bool liggghts_model_keyword(class LAMMPS *lmp, const char *caller, const char *key, const char *value);
   static void material_table(class LAMMPS *lmp, const char *caller, bool with_restitution, bool with_friction,
                              std::vector<poly_material_pair> &table);
 

@@ -125,3 +125,62 @@ def test_no_false_time_step_warning_after_read_data(run_deck, tmp_path):
         workdir=tmp_path / "second")
     assert second.returncode == 0, second.output
     assert not [w for w in second.warning_lines() if "time step" in w], second.warning_lines()
+
+
+# LIGGGHTS' contact-model keywords as a converted deck keeps them (issue 16).
+LIGGGHTS_PAIR = "pair_style polyhedral/volumetric model hertz tangential history cohesion off rolling_friction off " \
+                "surface default\npair_coeff * *\n"
+FALL = ("fix gravity all gravity 9.81 vector 0 0 -1\n"
+        "thermo_style custom step ke\nthermo_modify format float %.15g\nthermo 500\nrun 3000\n")
+
+
+def wall_deck(pair, wall):
+    """Two cubes dropped onto a plane wall and onto each other: pair and wall contacts, friction, damping."""
+    text = decks.header(boundary="f f f", ntypes=1) + "neigh_modify delay 0\n" + "".join(MATERIALS.values())
+    text += decks.template("cube", "cube.stl", scale=0.1)
+    text += pair + ("create_polyhedron cube 0.5 0.5 0.08 quat 0.9 0.1 0.2 0.3\n"
+                    "create_polyhedron cube 0.53 0.5 0.24 quat 0.8 -0.3 0.1 0.2\n"
+                    "fix integrate all nve/polyhedron\n" + wall + "timestep 1e-5\n" + FALL)
+    return text
+
+
+def test_liggghts_model_keywords_are_accepted(run_deck, tmp_path):
+    """`model hertz tangential history cohesion off rolling_friction off surface default` on the pair style and
+    `model hertz tangential history` on fix wall/polyhedral say what the volumetric law does anyway: the run is
+    the plain one, bit for bit."""
+    plain = run_deck(wall_deck("pair_style polyhedral/volumetric\npair_coeff * *\n",
+                               "fix wall all wall/polyhedral primitive type 1 zplane 0.0\n"), workdir=tmp_path / "a")
+    kept = run_deck(wall_deck(LIGGGHTS_PAIR, "fix wall all wall/polyhedral model hertz tangential history "
+                                             "primitive type 1 zplane 0.0\n"), workdir=tmp_path / "b")
+    assert plain.returncode == 0 and kept.returncode == 0, plain.output[-2000:] + kept.output[-2000:]
+    a, b = plain.thermo("Step", "KinEng"), kept.thermo("Step", "KinEng")
+    assert len(a["Step"]) == 7 and max(a["KinEng"]) > 0.0
+    assert a == b
+
+
+@pytest.mark.parametrize("keywords, expected", [
+    ("model hooke", "model hooke: the volumetric law is Hertz-Mindlin generalised to overlap volumes and has no "
+                    "linear (Hooke) variant; use model hertz"),
+    ("model hertz/stiffness", "has no such variant; use model hertz"),
+    ("tangential no_history", "tangential no_history (a viscous tangential force without a spring) has no counterpart"),
+    ("rolling_friction cdt", "rolling_friction cdt: polyhedra roll over their edges and vertices, so their shape "
+                             "resists rolling"),
+    ("cohesion sjkr", "cohesion sjkr is not available for polyhedra"),
+    ("surface multicontact", "surface multicontact has no counterpart here"),
+])
+@pytest.mark.parametrize("where", ["pair", "wall"])
+def test_liggghts_model_keywords_without_a_meaning_here_are_errors(run_deck, keywords, expected, where):
+    """Those that would change the law, or ask for one not provided, stop with an ERROR naming the alternative,
+    on the pair style and on the wall fix alike."""
+    if where == "pair":
+        text = wall_deck(f"pair_style polyhedral/volumetric {keywords}\npair_coeff * *\n",
+                         "fix wall all wall/polyhedral primitive type 1 zplane 0.0\n")
+        caller = "Pair polyhedral/volumetric"
+    else:
+        text = wall_deck("pair_style polyhedral/volumetric\npair_coeff * *\n",
+                         f"fix wall all wall/polyhedral {keywords} primitive type 1 zplane 0.0\n")
+        caller = "Fix wall/polyhedral"
+    result = run_deck(text)
+    assert result.returncode != 0
+    assert any(line.startswith(f"ERROR: {caller}: ") and expected in line for line in result.error_lines()), \
+        result.output[-3000:]
