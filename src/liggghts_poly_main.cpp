@@ -4,6 +4,7 @@
 #include <mpi.h>
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "lammps.h"
@@ -13,6 +14,14 @@
 #include "polyhedral_register.h"
 
 using namespace LAMMPS_NS;
+
+// LIGGGHTS prints its -help in the LAMMPS constructor and exits there; the
+// polyhedral styles follow it from an exit handler.
+static void print_polyhedral_styles(void)
+{
+  polyhedral_print_styles(stdout);
+  fflush(stdout);
+}
 
 int main(int argc, char **argv)
 {
@@ -33,6 +42,13 @@ int main(int argc, char **argv)
 
   MPI_Init(&argc, &argv);
   if (!polyhedral_verify_hooks()) MPI_Abort(MPI_COMM_WORLD, 1);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  for (int a = 1; a < argc && rank == 0; a++)
+    if (strcmp(argv[a], "-h") == 0 || strcmp(argv[a], "-help") == 0) {
+      atexit(print_polyhedral_styles);
+      break;
+    }
 
   LAMMPS *lammps = new LAMMPS(argc, argv, MPI_COMM_WORLD);
   lammps->input->file();

@@ -106,6 +106,23 @@ template struct ExposeMember<FixMapTag, &Modify::fix_map>;
 template struct ExposeMember<ComputeMapTag, &Modify::compute_map>;
 template struct ExposeMember<CommandMapTag, &Input::command_map>;
 
+// The styles users write, by kind, for polyhedral_print_styles (the atom style and the dump style come through
+// the interposed Atom::new_avec and Output::add_dump below; the contact-history fix is internal).
+const char *const kListedStyles[][2] = {
+    {"Atom styles", "polyhedron"},
+    {"Pair styles", "polyhedral/volumetric"},
+    {"Pair styles", "polyhedral/volumetric/gpu"},
+    {"Fix styles", "particletemplate/polyhedron"},
+    {"Fix styles", "nve/polyhedron"},
+    {"Fix styles", "wall/polyhedral"},
+    {"Fix styles", "check/timestep/polyhedral"},
+    {"Compute styles", "erotate/polyhedron"},
+    {"Compute styles", "property/polyhedron"},
+    {"Compute styles", "pair/polyhedral/local"},
+    {"Dump styles", "polyhedron/vtk"},
+    {"Commands", "create_polyhedron"},
+};
+
 void register_styles(LAMMPS *lmp)
 {
   std::map<std::string, FixCreator> &fixes = *(lmp->modify->*exposed(FixMapTag()));
@@ -180,6 +197,27 @@ void Output::add_dump(int narg, char **arg)
   Dump *ours = new DumpPolyhedronVTK(lmp, narg, arg);
   delete dump[ndump - 1];
   dump[ndump - 1] = ours;
+}
+
+void polyhedral_print_styles(FILE *out)
+{
+  fprintf(out, "\n* Polyhedral styles (package polyhedral, registered at start-up; doc/Manual.md):\n");
+  const char *kind = "";
+  int column = 0;
+  for (size_t k = 0; k < sizeof kListedStyles / sizeof kListedStyles[0]; k++) {
+    if (strcmp(kind, kListedStyles[k][0]) != 0) {
+      kind = kListedStyles[k][0];
+      fprintf(out, "\n%s:\n", kind);
+      column = 0;
+    }
+    fprintf(out, "%-32s", kListedStyles[k][1]);
+    if (++column == 5 || k + 1 == sizeof kListedStyles / sizeof kListedStyles[0] ||
+        strcmp(kind, kListedStyles[k + 1][0]) != 0) {
+      fprintf(out, "\n");
+      column = 0;
+    }
+  }
+  fprintf(out, "\n");
 }
 
 // ---- start-up check -------------------------------------------------------

@@ -71,3 +71,23 @@ def test_error_lines_carry_no_liggghts_tip_of_the_day(run_deck):
     assert result.returncode == 0, result.output
     first_line = (result.workdir / "version.data").read_text().splitlines()[0]
     assert "LIGGGHTS-Public" in first_line and "PUBLIC" not in first_line, first_line
+
+
+def test_help_lists_the_polyhedral_styles_after_liggghts_own(launcher, tmp_path):
+    """`liggghts-poly -h` prints LIGGGHTS' own help, then the styles this package registers: every style that
+    src/polyhedral_register.cpp puts into LIGGGHTS' maps (but the internal contact-history fix), plus the atom
+    style and the dump style that come through the interposed methods."""
+    import re
+    from conftest import ROOT
+    result = subprocess.run([str(launcher), "-h"], cwd=tmp_path, capture_output=True, text=True)
+    assert result.returncode == 1, result.stdout + result.stderr  # LIGGGHTS' own -h exits with 1 too
+    text = result.stdout
+    assert "* Fix styles" in text and "* Polyhedral styles" in text
+    assert text.index("* Fix styles") < text.index("* Polyhedral styles")
+    ours = set(text[text.index("* Polyhedral styles"):].split())
+    source = (ROOT / "src" / "polyhedral_register.cpp").read_text()
+    body = source[source.index("void register_styles"):]
+    registered = set(re.findall(r'(?:fixes|computes|commands|pair_map\))\["([^"]+)"\]', body))
+    assert len(registered) >= 10, registered
+    for name in registered | {"polyhedron", "polyhedron/vtk"}:
+        assert name in ours, (name, sorted(ours))
