@@ -328,15 +328,22 @@ def strip_dumps(deck):
 
 
 def cut_schedule(deck, limit):
-    """The deck up to its first `limit` steps: `run N [upto]` lines counted, the one crossing `limit` shortened
-    (as `run M upto`), everything after it dropped. limit None: the whole deck."""
+    """The deck up to its first `limit` steps: `run N [upto]` lines counted (N may be a ${variable} of a
+    `variable NAME equal NUMBER` line above it), the one crossing `limit` shortened (as `run M upto`),
+    everything after it dropped. limit None: the whole deck."""
     if limit is None:
         return deck
-    out, step = [], 0
+    values, out, step = {}, [], 0
     for line in deck.splitlines():
         words = line.split("#")[0].split()
+        if words[:1] == ["variable"] and len(words) == 4 and words[2] == "equal":
+            try:
+                values[words[1]] = float(words[3])
+            except ValueError:
+                pass
         if words[:1] == ["run"]:
-            end = int(words[1]) if "upto" in words[2:] else step + int(words[1])
+            count = int(float(re.sub(r"\$\{(\w+)\}", lambda m: repr(values[m.group(1)]), words[1])))
+            end = count if "upto" in words[2:] else step + count
             if end >= limit:
                 out.append(f"run {limit} upto")
                 return "\n".join(out) + "\n"
