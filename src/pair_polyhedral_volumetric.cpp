@@ -152,6 +152,27 @@ bool PairPolyhedralVolumetric::liggghts_model_keyword(LAMMPS *lmp, const char *c
   return true;
 }
 
+// The touch flags of LIGGGHTS' history list say which pairs the last evaluation found in contact (the GPU
+// style brings its flags back first). The half list holds a pair of two local particles once, and a pair of
+// a local and a ghost particle on both ranks, so each side counts its local particles only.
+void PairPolyhedralVolumetric::count_contacts(double *count, int groupbit)
+{
+  history_to_host();
+  if (!list || !listgranhistory)
+    error->all(FLERR, "Compute contact/polyhedron: the pair style has no contact list yet (use it after a run)");
+  const int nlocal = atom->nlocal, *mask = atom->mask;
+  int **touch = listgranhistory->firstneigh;
+  for (int ii = 0; ii < list->inum; ii++) {
+    int i = list->ilist[ii];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      if (!touch[i][jj]) continue;
+      int j = list->firstneigh[i][jj] & NEIGHMASK;
+      if (i < nlocal && (mask[i] & groupbit)) count[i] += 1.0;
+      if (j < nlocal && (mask[j] & groupbit)) count[j] += 1.0;
+    }
+  }
+}
+
 // pair_coeff * *: the materials come from fix property/global.
 void PairPolyhedralVolumetric::coeff(int narg, char **arg)
 {

@@ -51,11 +51,16 @@ class PairPolyhedralVolumetric : public Pair {
   // Contacts with flush faces, re-evaluated, still inconsistent, on this rank since the style was defined.
   const poly_degenerate_counts &degenerate_counts() const { return degenerate; }
 
-  // The effective materials of all type pairs (fix wall/polyhedral builds its own with its switches).
   // LIGGGHTS' contact-model keywords of pair gran and fix wall/gran, as a converted deck keeps them (model,
   // cohesion, rolling_friction, surface; tangential no_history): accepted where they say what this law does
   // anyway, else an ERROR naming the alternative. Returns whether `key` was one of them.
   static bool liggghts_model_keyword(class LAMMPS *lmp, const char *caller, const char *key, const char *value);
+
+  // For compute contact/polyhedron: adds to count[i] the number of particles each local particle of the group
+  // (mask & groupbit) touches, from the contacts of the last force evaluation.
+  void count_contacts(double *count, int groupbit);
+
+  // The effective materials of all type pairs (fix wall/polyhedral builds its own with its switches).
   static void material_table(class LAMMPS *lmp, const char *caller, bool with_restitution, bool with_friction,
                              std::vector<poly_material_pair> &table);
 

@@ -57,6 +57,7 @@
 #include "fix_particletemplate_polyhedron.h"
 #include "liggghts_member.h"
 #include "pair_polyhedral_volumetric.h"
+#include "compute_contact_polyhedron.h"
 #include "fix_check_timestep_polyhedral.h"
 #include "pair_polyhedral_volumetric_gpu.h"
 #include "polyhedral_guard.h"
@@ -119,6 +120,7 @@ const char *const kListedStyles[][2] = {
     {"Compute styles", "erotate/polyhedron"},
     {"Compute styles", "property/polyhedron"},
     {"Compute styles", "pair/polyhedral/local"},
+    {"Compute styles", "contact/polyhedron"},
     {"Dump styles", "polyhedron/vtk"},
     {"Commands", "create_polyhedron"},
 };
@@ -139,6 +141,7 @@ void register_styles(LAMMPS *lmp)
   computes["erotate/polyhedron"] = &create_compute<ComputeERotatePolyhedron>;
   computes["property/polyhedron"] = &create_compute<ComputePropertyPolyhedron>;
   computes["pair/polyhedral/local"] = &create_compute<ComputePairPolyhedralLocal>;
+  computes["contact/polyhedron"] = &create_compute<ComputeContactPolyhedron>;
   commands["create_polyhedron"] = &run_command<CreatePolyhedron>;
   // LIGGGHTS fixes that assume spheres stop with an ERROR: under atom_style polyhedron.
   polyhedral_guard_sphere_fixes(fixes);

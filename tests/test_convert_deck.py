@@ -65,7 +65,7 @@ def test_tutorial_converts_and_runs_as_shipped(launcher, tmp_path, name, steps, 
 
 def test_what_cannot_be_converted_is_listed_and_commented_out(tmp_path):
     """Cohesion and rolling-friction models are dropped with a note, a radius distribution, a multisphere
-    template, fix adapt of the diameter and compute contact/atom are commented out, with the lines that read
+    template, fix adapt of the diameter and compute pair/gran/local are commented out, with the lines that read
     them (their unfix, their thermo columns), and each is listed with its line number and reason."""
     deck = tmp_path / "in.spheres"
     deck.write_text(
@@ -75,11 +75,11 @@ def test_what_cannot_be_converted_is_listed_and_commented_out(tmp_path):
         "fix pts2 all particletemplate/sphere 2 atom_type 1 density constant 2500 radius gaussian 0.01 0.001\n"
         "fix stone all particletemplate/multisphere 3 atom_type 1 density constant 2500 nspheres 2 ntry 100 &\n"
         "    spheres 0 0 0 0.01 0.01 0 0 0.01\n"
-        "compute coord all contact/atom\n"
-        "compute total all reduce sum c_coord\n"
+        "compute coord all pair/gran/local pos id force\n"
+        "compute total all reduce sum c_coord[1]\n"
         "fix grow all adapt 10 atom diameter v_d\n"
         "thermo_style custom step atoms c_total ke\n"
-        "run 100\nunfix grow\n")
+        "run 100\nunfix grow\ncompute n all contact/atom\n")
     out = tmp_path / "in.rocks"
     report = subprocess.run(CONVERT + [str(deck), str(out), "--shape", "cube.stl"], capture_output=True, text=True)
     assert report.returncode == 0, report.stdout + report.stderr
@@ -87,7 +87,7 @@ def test_what_cannot_be_converted_is_listed_and_commented_out(tmp_path):
     print(notes)
     for line, expected in ((2, "cohesion sjkr dropped, NOT CONVERTED"), (2, "rolling_friction cdt dropped"),
                            (4, "only 'radius constant R' converts"), (5, "multisphere clumps have no polyhedral"),
-                           (7, "compute contact/atom works on pair gran contacts"),
+                           (7, "compute pair/gran/local works on pair gran contacts"),
                            (8, "reads a commented-out fix or compute"), (9, "polyhedra do not grow"),
                            (10, "columns of commented-out fixes and computes dropped: c_total"),
                            (12, "unfix of the commented-out fix grow")):
@@ -96,6 +96,7 @@ def test_what_cannot_be_converted_is_listed_and_commented_out(tmp_path):
     assert "pair_style polyhedral/volumetric model hertz tangential history\n" in text
     assert "thermo_style custom step atoms ke" in text
     assert "# fix grow all adapt 10 atom diameter v_d" in text and "# unfix grow" in text
+    assert "compute n all contact/polyhedron\n" in text
     # The cube (volume 1) gets the scale of a sphere of radius 0.01's volume.
     scale = float(re.search(r"fix pts1 .* file \S+cube.stl scale (\S+)", text).group(1))
     assert scale ** 3 == pytest.approx(4.0 / 3.0 * 3.141592653589793 * 0.01 ** 3, rel=1e-9)

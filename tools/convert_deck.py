@@ -12,7 +12,8 @@ Rewrites what makes the particles spheres and keeps everything else as written:
 - `fix ... particletemplate/sphere ... radius constant R` -> `fix ... particletemplate/polyhedron ... file SHAPE
   scale S`, S such that the polyhedron has the sphere's volume (and so its mass);
 - `fix ... nve/sphere` -> `nve/polyhedron`, `compute ... erotate/sphere` -> `erotate/polyhedron`,
-  `fix ... check/timestep/gran` -> `check/timestep/polyhedral`;
+  `fix ... check/timestep/gran` -> `check/timestep/polyhedral`, `compute ... contact/atom` ->
+  `contact/polyhedron`;
 - insertion fixes get `orientation random` (LIGGGHTS' default would insert every particle in the template's
   orientation), and an `extrude_length` of insert/stream shorter than three bounding radii of the largest
   polyhedron (insert/stream refuses it) is lengthened to that.
@@ -20,7 +21,7 @@ Rewrites what makes the particles spheres and keeps everything else as written:
 Lines it cannot convert, or converts with a change of meaning, are listed on the standard output with the
 reason, one per line ("line N: ..."). Lines that would stop the converted deck (LIGGGHTS' sphere-only commands:
 fix adapt of the diameter, cohesion and rolling-friction models, radius distributions, multisphere templates,
-per-contact computes of pair gran) are kept in OUT as comments ("# convert_deck: ..."), together with the lines
+per-contact local computes of pair gran) are kept in OUT as comments ("# convert_deck: ..."), together with the lines
 that only served them (their unfix, their thermo columns), so that OUT runs as it is. Exit status 0, or 1 for a
 deck with no particle template or an unknown shape file.
 """
@@ -212,7 +213,12 @@ class Converter:
             return "fix adapt ... diameter: polyhedra do not grow (to pack denser, insert at the target fraction)"
         if style in ("ave/euler", "ave/euler/stress"):
             return f"fix {style} takes volumes from bounding spheres; use compute property/polyhedron volume"
-        if command == "compute" and style in ("contact/atom", "wall/gran/local", "pair/gran/local"):
+        if command == "compute" and style == "contact/atom":
+            if len(words) > 4:
+                self.note(number, f"compute {words[1]}: contact/atom -> contact/polyhedron, '{' '.join(words[4:])}' "
+                                  "dropped (it counts the polyhedra that overlap, no skin)")
+            return words[:3] + ["contact/polyhedron"]
+        if command == "compute" and style in ("wall/gran/local", "pair/gran/local"):
             return f"compute {style} works on pair gran contacts; compute pair/polyhedral/local lists polyhedral " \
                    "contacts"
         if command == "set" and "diameter" in words:
