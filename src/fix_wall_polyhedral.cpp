@@ -34,7 +34,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
       sagitta(1e-6), thickness(0.0), shell_thickness(0.0), closed_particles(0),
       have_workspace(false), gpu_precision(-1), gpu_min_pieces(0), tangential(-1), damping(-1), rocking(-1), history_id(NULL), history(NULL), pair(NULL),
-      force_summed(false)
+      force_summed(false), recording(false), records_timestep(-1)
 {
   if (strcmp(atom->atom_style, "polyhedron") != 0) error->all(FLERR, "Fix wall/polyhedral requires atom_style polyhedron");
   bool have_plane = false;
@@ -408,6 +408,8 @@ void FixWallPolyhedral::build_shells()
 void FixWallPolyhedral::setup(int)
 {
   force_summed = false;
+  records.clear();
+  records_timestep = update->ntimestep;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
   for (int k = 0; k < 3; k++) setup_overlaps[k] = 0.0;
   if (meshes.empty()) apply_primitive(false);
@@ -436,10 +438,21 @@ void FixWallPolyhedral::warn_initial_overlaps()
 void FixWallPolyhedral::post_force(int)
 {
   force_summed = false;
+  records.clear();
+  records_timestep = update->ntimestep;
   for (int k = 0; k < 7; k++) wall_force[k] = 0.0;
   if (meshes.empty()) apply_primitive(true);
   if (!meshes.empty()) compute_mesh_overlaps();
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, true);
+}
+
+void FixWallPolyhedral::record(int i, int mesh, int triangle, const double *force, const double *centroid,
+                               const double *shift, double volume)
+{
+  const double row[kRecordColumns] = {(double)atom->tag[i], (double)mesh, (double)triangle, force[0], force[1],
+                                      force[2], centroid[0] + shift[0], centroid[1] + shift[1],
+                                      centroid[2] + shift[2], volume};
+  records.insert(records.end(), row, row + kRecordColumns);
 }
 
 // The contact law for particle i against a wall of infinite mass moving at wall_velocity at the centroid;
@@ -532,6 +545,7 @@ void FixWallPolyhedral::apply_primitive(bool advance_history)
     double force[3], shift[3];
     apply_contact(i, wall_type, spring, advance_history, geometry.volume, geometry.depth, geometry.normal,
                   geometry.centroid, geometry.second_moment, zero, zero, true, force, shift);
+    if (recording) record(i, 0, -1, force, geometry.centroid, shift, geometry.volume);
   }
 }
 
@@ -879,6 +893,12 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
     FixMeshSurface *mesh = meshes[m];
     apply_contact(i, mesh->atomTypeWall(), springs[i] + slot, advance_history, volume, contact.depth, contact.normal,
                   contact.centroid, contact.second_moment, velocity, spin, false, force, shift);
+    if (recording) {
+      size_t largest = begin;
+      for (size_t p = begin; p <= last; p++)
+        if (pieces[p].geometry.volume > pieces[largest].geometry.volume) largest = p;
+      record(i, m + 1, pieces[largest].triangle_id, force, contact.centroid, shift, volume);
+    }
     if (!advance_history) continue;
     // Each triangle carries its share of the force, by volume, at its piece's centroid moved by the centre of
     // pressure's shift (so the torque on the mesh sums to the whole force at the contact's centre of pressure,

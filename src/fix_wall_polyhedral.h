@@ -45,6 +45,15 @@ class FixWallPolyhedral : public Fix {
   // The meshes of a `mesh` wall (none for a primitive), e.g. for fix check/timestep/polyhedral.
   const std::vector<class FixMeshSurface *> &wall_meshes() const { return meshes; }
 
+  // compute wall/polyhedral/local: while on, each force evaluation lists its contacts, kRecordColumns values
+  // each (particle tag, mesh 1..K or 0 for a primitive, the global id of the mesh triangle with the largest share
+  // of the overlap as LIGGGHTS numbers them (-1 for a primitive), force on the particle x y z, contact point x y z,
+  // overlap volume).
+  enum { kRecordColumns = 10 };
+  void record_contacts(bool on) { recording = on; }
+  const std::vector<double> &recorded_contacts() const { return records; }
+  bigint records_step() const { return records_timestep; }
+
   // One triangle's share of a particle's contact with a mesh.
   struct MeshPiece {
     int particle, triangle, triangle_id;  // local atom, local and global triangle
@@ -124,6 +133,11 @@ class FixWallPolyhedral : public Fix {
   double setup_overlaps[3];  // at set-up: contacts, those deeper than 1 % of the bounding diameter, deepest fraction
   void warn_initial_overlaps();
   bool force_summed;
+  bool recording;
+  bigint records_timestep;
+  std::vector<double> records;
+  void record(int i, int mesh, int triangle, const double *force, const double *centroid, const double *shift,
+              double volume);
 };
 
 }

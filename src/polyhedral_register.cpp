@@ -58,6 +58,7 @@
 #include "liggghts_member.h"
 #include "pair_polyhedral_volumetric.h"
 #include "compute_contact_polyhedron.h"
+#include "compute_wall_polyhedral_local.h"
 #include "fix_check_timestep_polyhedral.h"
 #include "pair_polyhedral_volumetric_gpu.h"
 #include "polyhedral_guard.h"
@@ -121,6 +122,7 @@ const char *const kListedStyles[][2] = {
     {"Compute styles", "property/polyhedron"},
     {"Compute styles", "pair/polyhedral/local"},
     {"Compute styles", "contact/polyhedron"},
+    {"Compute styles", "wall/polyhedral/local"},
     {"Dump styles", "polyhedron/vtk"},
     {"Commands", "create_polyhedron"},
 };
@@ -142,6 +144,7 @@ void register_styles(LAMMPS *lmp)
   computes["property/polyhedron"] = &create_compute<ComputePropertyPolyhedron>;
   computes["pair/polyhedral/local"] = &create_compute<ComputePairPolyhedralLocal>;
   computes["contact/polyhedron"] = &create_compute<ComputeContactPolyhedron>;
+  computes["wall/polyhedral/local"] = &create_compute<ComputeWallPolyhedralLocal>;
   commands["create_polyhedron"] = &run_command<CreatePolyhedron>;
   // LIGGGHTS fixes that assume spheres stop with an ERROR: under atom_style polyhedron.
   polyhedral_guard_sphere_fixes(fixes);
