@@ -362,3 +362,21 @@ def test_small_work_runs_on_the_host(run_deck, tmp_path, monkeypatch):
     worst = max(abs(x - y) / max(abs(x), 1e-12) for column in ("KinEng", "c_erot") for x, y in zip(a[column], b[column]))
     print(f"split between host and GPU vs CPU: largest relative energy difference {worst:.2e}")
     assert worst <= 1e-6, worst
+
+
+@needs_gpu
+def test_contact_counts_come_back_from_the_gpu(run_deck, tmp_path):
+    """compute contact/polyhedron with the GPU style's fast path (history and touch flags on the device between
+    rebuilds): the counts summed over the particles at every output are those of the CPU style (whose sums are
+    twice its contacts, tests/test_contact_polyhedron.py)."""
+    tail = ("compute coord all contact/polyhedron\ncompute total all reduce sum c_coord\n"
+            "thermo_style custom step c_total\nthermo_modify format float %.15g\nthermo 400\nrun 2000\n")
+    runs = {}
+    for name, pair in (("cpu", "pair_style polyhedral/volumetric\n"), ("gpu", "pair_style polyhedral/volumetric/gpu\n")):
+        deck = packing(pair, many=True, records=False).replace("thermo 400\n", "") + tail
+        result = run_deck(deck, workdir=tmp_path / name)
+        assert result.returncode == 0, result.output[-3000:]
+        runs[name] = result.thermo("Step", "c_total")
+    print(runs)
+    assert runs["cpu"] == runs["gpu"]
+    assert max(runs["gpu"]["c_total"]) >= 200
