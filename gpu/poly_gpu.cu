@@ -179,6 +179,7 @@ __device__ __forceinline__ void finish_pair(int p, const poly_gpu_particle &body
   for (int k = 0; k < 3; k++) input.centroid[k] += state_i.position[k];
   poly_second_moment_rotate(rotation_i, geometry.second_moment, input.second_moment);
   input.couples = 1;
+  input.contact_area = geometry.projected_area;
   poly_contact_input_set_bodies(&input, state_i.position, state_i.velocity, state_i.omega, body_i.mass,
                                 state_j.position, state_j.velocity, state_j.omega, body_j.mass, settings.dt);
   double scratch_history[POLY_HISTORY_SIZE];
@@ -205,7 +206,7 @@ __device__ __forceinline__ void finish_pair(int p, const poly_gpu_particle &body
     r.pair = p;
     r.volume = geometry.volume;
     r.depth = geometry.depth;
-    r.normal_force = law.normal_force;
+    r.normal_force = law.normal_force - law.cohesive_force;  // net, as the CPU style records it
     for (int k = 0; k < 3; k++) {
       r.normal[k] = input.normal[k];
       r.centroid[k] = input.centroid[k];

@@ -33,7 +33,7 @@ using namespace FixConst;
 FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
       sagitta(1e-6), thickness(0.0), shell_thickness(0.0), closed_particles(0),
-      have_workspace(false), gpu_precision(-1), gpu_min_pieces(0), tangential(-1), damping(-1), rocking(-1), history_id(NULL), history(NULL), pair(NULL),
+      have_workspace(false), gpu_precision(-1), gpu_min_pieces(0), tangential(-1), damping(-1), rocking(-1), cohesion(-1), history_id(NULL), history(NULL), pair(NULL),
       force_summed(false), recording(false), records_timestep(-1)
 {
   if (strcmp(atom->atom_style, "polyhedron") != 0) error->all(FLERR, "Fix wall/polyhedral requires atom_style polyhedron");
@@ -41,6 +41,11 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
   int iarg = 3;
   while (iarg < narg) {
     const char *key = arg[iarg];
+    if (strcmp(key, "cohesion") == 0 && iarg + 1 < narg) {
+      cohesion = PairPolyhedralVolumetric::cohesion_keyword(lmp, "Fix wall/polyhedral", arg[iarg + 1]);
+      iarg += 2;
+      continue;
+    }
     // LIGGGHTS' fix wall/gran keywords a converted deck keeps (model hertz, ...), before the wall itself.
     if (!have_plane && meshes.empty() &&
         PairPolyhedralVolumetric::liggghts_model_keyword(lmp, "Fix wall/polyhedral", key,
@@ -232,7 +237,8 @@ void FixWallPolyhedral::init()
   use_tangential = tangential < 0 ? pair->tangential_history_on() : tangential;
   use_damping = damping < 0 ? pair->damping_on() : damping;
   use_rocking = use_damping && (rocking < 0 ? pair->rocking_damping_on() : rocking);
-  PairPolyhedralVolumetric::material_table(lmp, style, use_damping, use_tangential, materials);
+  use_cohesion = cohesion < 0 ? pair->cohesion_on() : cohesion;
+  PairPolyhedralVolumetric::material_table(lmp, style, use_damping, use_tangential, use_cohesion, materials);
   // With the /gpu pair style the meshes' overlaps run on its GPU, in its precision.
   PairPolyhedralVolumetricGPU *gpu_pair = dynamic_cast<PairPolyhedralVolumetricGPU *>(pair);
   gpu_precision = gpu_pair ? pair->narrow_precision() : -1;
@@ -458,7 +464,7 @@ void FixWallPolyhedral::record(int i, int mesh, int triangle, const double *forc
 // The contact law for particle i against a wall of infinite mass moving at wall_velocity at the centroid;
 // adds force and torque to the particle and the force to the wall's total. Returns the force on the particle.
 void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, bool advance_history, double volume,
-                                      double depth, const double *normal, const double *centroid,
+                                      double depth, double contact_area, const double *normal, const double *centroid,
                                       const double *second_moment, const double *wall_velocity,
                                       const double *wall_omega, bool couples, double *force_on_particle,
                                       double *pressure_shift)
@@ -472,6 +478,7 @@ void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, b
   }
   poly_contact_input input;
   poly_contact_input_set_geometry(&input, volume, depth, normal, centroid);
+  input.contact_area = contact_area;
   if (use_rocking) poly_contact_input_set_second_moment(&input, second_moment);
   input.couples = couples;
   // The wall: infinite mass (0), its "position" the contact point.
@@ -543,7 +550,8 @@ void FixWallPolyhedral::apply_primitive(bool advance_history)
       continue;
     }
     double force[3], shift[3];
-    apply_contact(i, wall_type, spring, advance_history, geometry.volume, geometry.depth, geometry.normal,
+    apply_contact(i, wall_type, spring, advance_history, geometry.volume, geometry.depth, geometry.projected_area,
+                  geometry.normal,
                   geometry.centroid, geometry.second_moment, zero, zero, true, force, shift);
     if (recording) record(i, 0, -1, force, geometry.centroid, shift, geometry.volume);
   }
@@ -891,7 +899,8 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
     touching[i] = 1;
     double force[3], shift[3];
     FixMeshSurface *mesh = meshes[m];
-    apply_contact(i, mesh->atomTypeWall(), springs[i] + slot, advance_history, volume, contact.depth, contact.normal,
+    apply_contact(i, mesh->atomTypeWall(), springs[i] + slot, advance_history, volume, contact.depth,
+                  contact.projected_area, contact.normal,
                   contact.centroid, contact.second_moment, velocity, spin, false, force, shift);
     if (recording) {
       size_t largest = begin;

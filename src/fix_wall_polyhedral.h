@@ -81,7 +81,7 @@ class FixWallPolyhedral : public Fix {
   void collect_pieces(int m);
   void compute_overlaps();
   void apply_contact(int i, int wall_type, double *spring, bool advance_history, double volume, double depth,
-                     const double *normal, const double *centroid, const double *second_moment,
+                     double contact_area, const double *normal, const double *centroid, const double *second_moment,
                      const double *wall_velocity, const double *wall_omega, bool couples, double *force_on_particle,
                      double *pressure_shift);
 
@@ -121,11 +121,11 @@ class FixWallPolyhedral : public Fix {
   std::vector<poly_overlap_result> particle_pieces;  // one particle's pieces at a time
   std::vector<int> piece_first_node, piece_num_nodes;
   std::vector<char> touching;  // per local particle, for the current mesh
-  int tangential, damping, rocking;   // -1: as the pair style
+  int tangential, damping, rocking, cohesion;   // -1: as the pair style
   char *history_id;
   class FixPropertyAtom *history;
   class PairPolyhedralVolumetric *pair;
-  int use_tangential, use_damping, use_rocking;   // this wall's switches, resolved in init()
+  int use_tangential, use_damping, use_rocking, use_cohesion;   // this wall's switches, resolved in init()
   std::vector<poly_material_pair> materials;  // (ntypes+1)^2, read with this wall's switches
   double wall_force[10], wall_force_all[10];  // force on the wall (3), contacts, torque on the wall (3),
                                               // then degenerate pieces since the fix was defined (3)

@@ -30,7 +30,7 @@ static const double kHertzFraction = 0.1;
 
 PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
     : Pair(lmp), computeflag(0), listgranhistory(NULL), tangential_history(true), damping(true),
-      rocking_damping(true),
+      rocking_damping(true), cohesion(false),
 #ifdef POLY_SINGLE_PRECISION
       precision(POLY_PRECISION_SINGLE),
 #else
@@ -80,6 +80,10 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
     }
     const char *key = arg[iarg], *value = arg[iarg + 1];
     bool ok = true;
+    if (strcmp(key, "cohesion") == 0) {
+      cohesion = cohesion_keyword(lmp, "Pair polyhedral/volumetric", value);
+      continue;
+    }
     if (liggghts_model_keyword(lmp, "Pair polyhedral/volumetric", key, value)) continue;
     if (strcmp(key, "tangential") == 0) {
       ok = strcmp(value, "history") == 0 || strcmp(value, "off") == 0;
@@ -143,8 +147,8 @@ bool PairPolyhedralVolumetric::liggghts_model_keyword(LAMMPS *lmp, const char *c
              "rolling_friction off", caller, value);
   else if (strcmp(key, "cohesion") == 0)
     snprintf(message, sizeof message,
-             "%s: cohesion %s is not available for polyhedra; remove it (cohesion off) or model the deck with "
-             "spheres", caller, value);
+             "%s: cohesion %s is not available for polyhedra; use cohesion sjkr (LIGGGHTS' simplified JKR over "
+             "the overlap's cross-section) or cohesion off", caller, value);
   else
     snprintf(message, sizeof message, "%s: surface %s has no counterpart here; use surface default or leave it out",
              caller, value);
@@ -254,15 +258,24 @@ void *PairPolyhedralVolumetric::extract(const char *name, int &dim)
 void PairPolyhedralVolumetric::load_materials()
 {
   atom_ntypes = atom->ntypes;
-  material_table(lmp, force->pair_style, damping, tangential_history, materials);
+  material_table(lmp, force->pair_style, damping, tangential_history, cohesion, materials);
 }
 
 // Effective constants of every type pair from LIGGGHTS' fix property/global
 // tables, indexed i * (ntypes+1) + j. Only what the scene needs is read:
 // restitution only with damping, friction only with a tangential force (as
 // pair gran asks for its materials); the others default to e = 1, mu = 0.
+int PairPolyhedralVolumetric::cohesion_keyword(LAMMPS *lmp, const char *caller, const char *value)
+{
+  if (strcmp(value, "sjkr") == 0) return 1;
+  if (strcmp(value, "off") == 0) return 0;
+  liggghts_model_keyword(lmp, caller, "cohesion", value);  // stops with the ERROR naming the alternative
+  return 0;
+}
+
 void PairPolyhedralVolumetric::material_table(LAMMPS *lmp, const char *caller, bool with_restitution,
-                                              bool with_friction, std::vector<poly_material_pair> &table)
+                                              bool with_friction, bool with_cohesion,
+                                              std::vector<poly_material_pair> &table)
 {
   Modify *modify = lmp->modify;
   Error *error = lmp->error;
@@ -277,6 +290,9 @@ void PairPolyhedralVolumetric::material_table(LAMMPS *lmp, const char *caller, b
   FixPropertyGlobal *friction = with_friction ? static_cast<FixPropertyGlobal *>(modify->find_fix_property(
                                                     "coefficientFriction", "property/global", "peratomtypepair", n, n, caller))
                                               : NULL;
+  FixPropertyGlobal *cohesion_density = with_cohesion ? static_cast<FixPropertyGlobal *>(modify->find_fix_property(
+                                                           "cohesionEnergyDensity", "property/global", "peratomtypepair", n, n, caller))
+                                                     : NULL;
   table.assign((n + 1) * (n + 1), poly_material_pair());
   // Kept for the process: every run command and every wall fix calls this, and one beta (a bisection
   // over integrated impacts) took as long as a few hundred steps of a small pile.
@@ -294,6 +310,11 @@ void PairPolyhedralVolumetric::material_table(LAMMPS *lmp, const char *caller, b
       if (!beta_of_restitution.count(e)) beta_of_restitution[e] = poly_damping_beta_for_restitution(e);
       poly_material_pair_make(youngs_i, poisson_i, youngs_j, poisson_j, beta_of_restitution[e], mu,
                               &table[i * (n + 1) + j]);
+      if (cohesion_density) {
+        double k = cohesion_density->compute_array(i - 1, j - 1);
+        if (!(k >= 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: cohesionEnergyDensity must be >= 0");
+        table[i * (n + 1) + j].cohesion = k;
+      }
     }
   }
 }
@@ -544,6 +565,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
 
       poly_contact_input input;
       poly_contact_input_set_geometry(&input, geometry.volume, geometry.depth, geometry.normal, geometry.centroid);
+      input.contact_area = geometry.projected_area;
       poly_contact_input_set_second_moment(&input, geometry.second_moment);
       poly_contact_input_set_bodies(&input, x[i], v[i], omega[i], rmass[i], x[j], v[j], omega[j], rmass[j],
                                     update->dt);
@@ -592,7 +614,7 @@ void PairPolyhedralVolumetric::apply_contact(int i, int j, double volume, double
     for (int k = 0; k < 3; k++) {
       record.normal[k] = normal[k];
       record.contact_point[k] = centroid[k];
-      record.normal_force[k] = out.normal_force * normal[k];
+      record.normal_force[k] = (out.normal_force - out.cohesive_force) * normal[k];  // net: repulsion less cohesion
       record.tangential_force[k] = out.tangential_force[k];
     }
     records.push_back(record);

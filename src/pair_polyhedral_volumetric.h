@@ -62,7 +62,10 @@ class PairPolyhedralVolumetric : public Pair {
 
   // The effective materials of all type pairs (fix wall/polyhedral builds its own with its switches).
   static void material_table(class LAMMPS *lmp, const char *caller, bool with_restitution, bool with_friction,
-                             std::vector<poly_material_pair> &table);
+                             bool with_cohesion, std::vector<poly_material_pair> &table);
+  // `cohesion sjkr|off` of a pair_style or fix wall line: 1 or 0 (other values: the ERROR of liggghts_model_keyword).
+  static int cohesion_keyword(class LAMMPS *lmp, const char *caller, const char *value);
+  bool cohesion_on() const { return cohesion; }
 
   // For fix wall/polyhedral: the shapes and the switches.
   const poly_shape_view_d &shape_view(int shapetype) const { return views_d[shapetype]; }
@@ -76,7 +79,7 @@ class PairPolyhedralVolumetric : public Pair {
   virtual void history_to_host() {}
 
  protected:
-  bool tangential_history, damping, rocking_damping;
+  bool tangential_history, damping, rocking_damping, cohesion;
   int precision;  // poly_precision
   std::vector<class Compute *> recorders;
   bool recording;               // on this step

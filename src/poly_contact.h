@@ -15,7 +15,8 @@
  * with S = k_n for the normal and S = k_t for the tangential direction, and
  * beta as below.
  * The force acts at the overlap centroid, so both bodies feel torques.
- * No attractive normal force: F_n is clamped at zero. LIGGGHTS' beta(e) is
+ * No attractive normal force from the law itself: F_n is clamped at zero (cohesion, when the material has
+ * it, is a separate attraction k A, below). LIGGGHTS' beta(e) is
  * exact only when the force may turn attractive at the end of the contact
  * (with the clamp it gives e = 0.55 for a requested 0.5), so beta is instead
  * chosen such that the clamped Hertz contact rebounds with exactly the
@@ -66,10 +67,12 @@ typedef struct poly_material_pair {
   double shear_effective;    /* G*: 1/G* = 2(2-nu_i)(1+nu_i)/E_i + 2(2-nu_j)(1+nu_j)/E_j */
   double damping_beta;       /* poly_damping_beta_for_restitution(e) */
   double friction;           /* mu */
+  double cohesion;           /* k, LIGGGHTS' cohesionEnergyDensity (J/m^3): attraction k A (0: none) */
 } poly_material_pair;
 
 typedef struct poly_contact_input {
   double volume, depth;
+  double contact_area;       /* A: the overlap's cross-section normal to n (its projected area), for cohesion */
   double normal[3];          /* unit, from i to j */
   double centroid[3];
   double second_moment[6];   /* of the overlap about c (xx yy zz xy xz yz); zero: no rocking damping */
@@ -84,7 +87,8 @@ typedef struct poly_contact_input {
 typedef struct poly_contact_output {
   double force_j[3];         /* on j; i gets the opposite */
   double torque_i[3], torque_j[3];
-  double normal_force;       /* >= 0 */
+  double normal_force;       /* >= 0: the repulsive part */
+  double cohesive_force;     /* >= 0: the attraction k A, along -n on j */
   double tangential_force[3];/* on j */
   double normal_stiffness, tangential_stiffness;
   double pressure_shift[3];  /* the force acts at centroid + pressure_shift (rocking damping) */
@@ -97,6 +101,7 @@ POLY_INLINE void poly_contact_input_set_geometry(poly_contact_input *in, double 
 {
   in->volume = volume;
   in->depth = depth;
+  in->contact_area = 0.0;
   for (int k = 0; k < 3; k++) {
     in->normal[k] = normal[k];
     in->centroid[k] = centroid[k];
@@ -227,6 +232,7 @@ POLY_INLINE void poly_material_pair_make(double youngs_i, double poisson_i, doub
                                  2.0 * (2.0 - poisson_j) * (1.0 + poisson_j) / youngs_j);
   pair->damping_beta = damping_beta;
   pair->friction = friction;
+  pair->cohesion = 0.0;
 }
 
 /* Evaluates the law and advances `history` (POLY_HISTORY_SIZE doubles, zero
@@ -310,6 +316,24 @@ POLY_INLINE void poly_contact_evaluate(const poly_contact_input *in, const poly_
   for (int k = 0; k < 3; k++) {
     out->torque_j[k] += twist[k];
     out->torque_i[k] -= twist[k];
+  }
+  /* Cohesion (LIGGGHTS' cohesion sjkr, with the overlap's cross-section for the spheres' contact circle): k A
+   * pulls j towards i at the centroid, beside the repulsion, which keeps its friction limit. */
+  const double cohesive = material->cohesion * in->contact_area;
+  out->cohesive_force = cohesive;
+  if (cohesive > 0.0) {
+    double pull_j[3], pull_i[3], centroid_arm_i[3], centroid_arm_j[3], torque[3];
+    for (int k = 0; k < 3; k++) {
+      pull_j[k] = -cohesive * n[k];
+      pull_i[k] = -pull_j[k];
+      out->force_j[k] += pull_j[k];
+      centroid_arm_i[k] = in->centroid[k] - in->position_i[k];
+      centroid_arm_j[k] = in->centroid[k] - in->position_j[k];
+    }
+    poly_cross3_d(centroid_arm_i, pull_i, torque);
+    for (int k = 0; k < 3; k++) out->torque_i[k] += torque[k];
+    poly_cross3_d(centroid_arm_j, pull_j, torque);
+    for (int k = 0; k < 3; k++) out->torque_j[k] += torque[k];
   }
   out->normal_force = normal_force;
   out->normal_stiffness = k_n;

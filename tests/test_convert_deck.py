@@ -70,7 +70,7 @@ def test_what_cannot_be_converted_is_listed_and_commented_out(tmp_path):
     deck = tmp_path / "in.spheres"
     deck.write_text(
         "atom_style granular\n"
-        "pair_style gran model hertz tangential history cohesion sjkr rolling_friction cdt\n"
+        "pair_style gran model hertz tangential history cohesion sjkr2 rolling_friction cdt\n"
         "fix pts1 all particletemplate/sphere 1 atom_type 1 density constant 2500 radius constant 0.01\n"
         "fix pts2 all particletemplate/sphere 2 atom_type 1 density constant 2500 radius gaussian 0.01 0.001\n"
         "fix stone all particletemplate/multisphere 3 atom_type 1 density constant 2500 nspheres 2 ntry 100 &\n"
@@ -85,7 +85,7 @@ def test_what_cannot_be_converted_is_listed_and_commented_out(tmp_path):
     assert report.returncode == 0, report.stdout + report.stderr
     notes = report.stdout
     print(notes)
-    for line, expected in ((2, "cohesion sjkr dropped, NOT CONVERTED"), (2, "rolling_friction cdt dropped"),
+    for line, expected in ((2, "cohesion sjkr2 dropped, NOT CONVERTED"), (2, "rolling_friction cdt dropped"),
                            (4, "only 'radius constant R' converts"), (5, "multisphere clumps have no polyhedral"),
                            (7, "compute pair/gran/local works on pair gran contacts"),
                            (8, "reads a commented-out fix or compute"), (9, "polyhedra do not grow"),

@@ -380,3 +380,17 @@ def test_contact_counts_come_back_from_the_gpu(run_deck, tmp_path):
     print(runs)
     assert runs["cpu"] == runs["gpu"]
     assert max(runs["gpu"]["c_total"]) >= 200
+
+
+@needs_gpu
+def test_gpu_cohesion_matches_cpu(run_deck, tmp_path):
+    """cohesion sjkr on the GPU (the shared law with the overlap's projected area from either contact kernel):
+    the cohesive pair of tests/test_cohesion.py gives the CPU style's normal force to 1e-10."""
+    from test_cohesion import pair_force
+    cpu = pair_force(run_deck, tmp_path / "cpu", False, "sjkr")
+    gpu = pair_force(lambda deck, workdir: run_deck(deck.replace("polyhedral/volumetric cohesion",
+                                                                 "polyhedral/volumetric/gpu cohesion"), workdir=workdir),
+                     tmp_path / "gpu", False, "sjkr")
+    off = pair_force(run_deck, tmp_path / "off", False, "off")
+    print(f"normal force with cohesion: CPU {cpu!r}, GPU {gpu!r}; without {off!r}")
+    assert gpu == pytest.approx(cpu, rel=1e-10) and off - cpu > 1.0

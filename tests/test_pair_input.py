@@ -165,7 +165,7 @@ def test_liggghts_model_keywords_are_accepted(run_deck, tmp_path):
     ("tangential no_history", "tangential no_history (a viscous tangential force without a spring) has no counterpart"),
     ("rolling_friction cdt", "rolling_friction cdt: polyhedra roll over their edges and vertices, so their shape "
                              "resists rolling"),
-    ("cohesion sjkr", "cohesion sjkr is not available for polyhedra"),
+    ("cohesion sjkr2", "cohesion sjkr2 is not available for polyhedra"),
     ("surface multicontact", "surface multicontact has no counterpart here"),
 ])
 @pytest.mark.parametrize("where", ["pair", "wall"])

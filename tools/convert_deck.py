@@ -8,7 +8,7 @@ Rewrites what makes the particles spheres and keeps everything else as written:
 - `atom_style granular|sphere` -> `atom_style polyhedron`;
 - `pair_style gran ...` -> `pair_style polyhedral/volumetric`, `fix ... wall/gran ...` -> `fix ... wall/polyhedral`,
   keeping LIGGGHTS' keywords that mean what the volumetric law does (`model hertz`, `tangential history`,
-  `cohesion off`, `rolling_friction off`, `surface default`);
+  `cohesion sjkr|off`, `rolling_friction off`, `surface default`);
 - `fix ... particletemplate/sphere ... radius constant R` -> `fix ... particletemplate/polyhedron ... file SHAPE
   scale S`, S such that the polyhedron has the sphere's volume (and so its mass);
 - `fix ... nve/sphere` -> `nve/polyhedron`, `compute ... erotate/sphere` -> `erotate/polyhedron`,
@@ -35,8 +35,8 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 # LIGGGHTS keywords of pair gran / wall/gran that mean what the volumetric law does.
-ACCEPTED = {("model", "hertz"), ("tangential", "history"), ("cohesion", "off"), ("rolling_friction", "off"),
-            ("surface", "default")}
+ACCEPTED = {("model", "hertz"), ("tangential", "history"), ("cohesion", "off"), ("cohesion", "sjkr"),
+            ("rolling_friction", "off"), ("surface", "default")}
 MODEL_KEYWORDS = {"model", "tangential", "cohesion", "rolling_friction", "surface"}
 
 
@@ -174,8 +174,8 @@ class Converter:
                 self.note(line, f"{caller}: rolling_friction {value} dropped: polyhedra resist rolling by their "
                                 "shape (they roll over edges and vertices)")
             elif key == "cohesion":
-                self.note(line, f"{caller}: cohesion {value} dropped, NOT CONVERTED: no cohesion model for "
-                                "polyhedra yet; the converted deck has no cohesion")
+                self.note(line, f"{caller}: cohesion {value} dropped, NOT CONVERTED: of LIGGGHTS' cohesion models "
+                                "only sjkr has a polyhedral counterpart; the converted deck has no cohesion")
             else:
                 self.note(line, f"{caller}: surface {value} dropped (no counterpart)")
             k += 2
