@@ -13,6 +13,7 @@
  */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "bench_common.h"
@@ -21,7 +22,8 @@
 static const char *const SHAPE_FILES[] = {"schoenhardt.stl", "cube.stl",  "icosphere_80.off",
                                           "icosphere_320.off", "icosphere_1280.off", "rock_10.obj",
                                           "rock_40.obj", "rock_70.obj", "rock_1000.obj"};
-#define NUM_SHAPES (int)(sizeof SHAPE_FILES / sizeof SHAPE_FILES[0])
+#define NUM_DEFAULT_SHAPES (int)(sizeof SHAPE_FILES / sizeof SHAPE_FILES[0])
+#define MAX_SHAPES 32
 
 static void random_direction(double d[3])
 {
@@ -76,11 +78,25 @@ int main(int argc, char **argv)
   int num_poses, repeats;
   if (read_arguments(argc, argv, &num_poses, &repeats, 1)) return 2;
 
-  bench_shape shapes[NUM_SHAPES];
+  // BENCH_SHAPE_FILES="a.obj b.off ...": these files (relative to SHAPES_DIR unless absolute) instead of the
+  // reference shapes, e.g. the simplified shapes of tools/make_shape.py (doc/shapes_from_clumps.md).
+  const char *files[MAX_SHAPES];
+  int num_shapes = 0;
+  static char listed[8192];
+  const char *chosen = getenv("BENCH_SHAPE_FILES");
+  if (chosen && *chosen) {
+    snprintf(listed, sizeof listed, "%s", chosen);
+    for (char *word = strtok(listed, " "); word && num_shapes < MAX_SHAPES; word = strtok(NULL, " "))
+      files[num_shapes++] = word;
+  } else {
+    for (int i = 0; i < NUM_DEFAULT_SHAPES; i++) files[num_shapes++] = SHAPE_FILES[i];
+  }
+  bench_shape shapes[MAX_SHAPES];
   int max_vertices = 0, max_triangles = 0;
-  for (int i = 0; i < NUM_SHAPES; i++) {
+  for (int i = 0; i < num_shapes; i++) {
     char path[4096], message[512];
-    snprintf(path, sizeof path, "%s/%s", argv[1], SHAPE_FILES[i]);
+    if (files[i][0] == '/') snprintf(path, sizeof path, "%s", files[i]);
+    else snprintf(path, sizeof path, "%s/%s", argv[1], files[i]);
     if (poly_shape_load(path, 1.0, &shapes[i].shape, message, sizeof message) != POLY_OK) {
       fprintf(stderr, "%s\n", message);
       return 1;
@@ -104,7 +120,7 @@ int main(int argc, char **argv)
          "single, no filter (us) | filter speed-up (double) |\n");
   printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
   double total_start = now();
-  for (int i = 0; i < NUM_SHAPES; i++) {
+  for (int i = 0; i < num_shapes; i++) {
     const bench_shape *s = &shapes[i];
     double volume = s->shape.volume, reach = 2.0 * s->shape.bounding_radius, fraction_sum = 0.0;
     ws_d.use_filter = 1;
@@ -131,9 +147,10 @@ int main(int argc, char **argv)
     double t[4];
     for (int c = 0; c < 4; c++)
       t[c] = time_configuration(s, poses_a, poses_b, num_poses, c / 2, !(c % 2), &ws_d, &ws_f, repeats);
-    const char *name = strrchr(SHAPE_FILES[i], '.');
-    printf("| %.*s | %d | %.2f %% | %.2f | %.2f | %.2f | %.2f | %.1fx |\n", (int)(name - SHAPE_FILES[i]),
-           SHAPE_FILES[i], s->shape.num_triangles, 100.0 * fraction_sum / num_poses, t[0], t[1], t[2], t[3],
+    const char *base = strrchr(files[i], '/') ? strrchr(files[i], '/') + 1 : files[i];
+    const char *name = strrchr(base, '.') ? strrchr(base, '.') : base + strlen(base);
+    printf("| %.*s | %d | %.2f %% | %.2f | %.2f | %.2f | %.2f | %.1fx |\n", (int)(name - base), base,
+           s->shape.num_triangles, 100.0 * fraction_sum / num_poses, t[0], t[1], t[2], t[3],
            t[1] / t[0]);
     fflush(stdout);
   }
@@ -143,7 +160,7 @@ int main(int argc, char **argv)
   free(poses_b);
   poly_overlap_workspace_destroy_d(&ws_d);
   poly_overlap_workspace_destroy_f(&ws_f);
-  for (int i = 0; i < NUM_SHAPES; i++) {
+  for (int i = 0; i < num_shapes; i++) {
     poly_shape_view_free_f(&shapes[i].view_f);
     poly_shape_free(&shapes[i].shape);
   }
