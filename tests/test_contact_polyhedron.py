@@ -52,3 +52,26 @@ def test_needs_polyhedra(run_deck):
     result = run_deck(deck)
     assert result.returncode != 0
     assert any("requires atom_style polyhedron" in line for line in result.error_lines()), result.output[-2000:]
+
+
+def test_liggghts_contact_atom_is_an_error_with_polyhedra_only(run_deck, tmp_path):
+    """LIGGGHTS' compute contact/atom would count bounding spheres: under atom_style polyhedron it stops with an
+    ERROR naming compute contact/polyhedron; with spheres it is LIGGGHTS' own and runs."""
+    polyhedra = stack().replace("compute coord all contact/polyhedron", "compute coord all contact/atom")
+    result = run_deck(polyhedra, workdir=tmp_path / "polyhedra")
+    assert result.returncode != 0
+    assert any("use compute contact/polyhedron" in line for line in result.error_lines()), result.output[-2000:]
+    spheres = ("atom_style granular\natom_modify map array\nboundary f f f\nnewton off\ncommunicate single vel yes\n"
+               "units si\nregion box block 0 1 0 1 0 1\ncreate_box 1 box\n"
+               "fix m1 all property/global youngsModulus peratomtype 1e7\n"
+               "fix m2 all property/global poissonsRatio peratomtype 0.25\n"
+               "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5\n"
+               "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5\n"
+               "pair_style gran model hertz tangential history\npair_coeff * *\n"
+               "create_atoms 1 single 0.5 0.5 0.5\ncreate_atoms 1 single 0.5 0.5 0.519\n"
+               "set atom * diameter 0.02 density 2500\nfix integrate all nve/sphere\n"
+               "compute coord all contact/atom\ncompute total all reduce sum c_coord\n"
+               "thermo_style custom step c_total\ntimestep 1e-7\nrun 1\n")
+    result = run_deck(spheres, workdir=tmp_path / "spheres")
+    assert result.returncode == 0, result.output[-2000:]
+    assert result.thermo("c_total")["c_total"][-1] == 2.0
