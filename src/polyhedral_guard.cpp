@@ -100,9 +100,29 @@ template <int K> void wrap(std::map<std::string, PolyhedralFixCreator> &fix_map)
 }
 template <> void wrap<0>(std::map<std::string, PolyhedralFixCreator> &) {}
 
+// LIGGGHTS' compute contact/atom counts the spheres within the skin of each other: with polyhedra it would
+// count bounding spheres. The one guarded compute; its creator is kept and called for every other atom style.
+PolyhedralComputeCreator original_contact_atom = NULL;
+
+Compute *guarded_contact_atom(LAMMPS *lmp, int iarg, int narg, char **arg)
+{
+  if (lmp->atom->atom_style && strcmp(lmp->atom->atom_style, "polyhedron") == 0)
+    lmp->error->all(FLERR, "Compute contact/atom counts bounding spheres within the skin of each other; with "
+                           "atom_style polyhedron use compute contact/polyhedron (the polyhedra that overlap)");
+  return original_contact_atom(lmp, iarg, narg, arg);
+}
+
 }  // namespace
 
 void polyhedral_guard_sphere_fixes(std::map<std::string, PolyhedralFixCreator> &fix_map)
 {
   wrap<kNumGuards>(fix_map);
+}
+
+void polyhedral_guard_sphere_computes(std::map<std::string, PolyhedralComputeCreator> &compute_map)
+{
+  std::map<std::string, PolyhedralComputeCreator>::iterator it = compute_map.find("contact/atom");
+  if (it == compute_map.end() || it->second == &guarded_contact_atom) return;
+  original_contact_atom = it->second;
+  it->second = &guarded_contact_atom;
 }

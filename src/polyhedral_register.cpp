@@ -127,18 +127,6 @@ const char *const kListedStyles[][2] = {
     {"Commands", "create_polyhedron"},
 };
 
-// LIGGGHTS' compute contact/atom counts the spheres within the skin of each other: with polyhedra it would
-// count bounding spheres, silently. Its creator is kept and called for every other atom style.
-ComputeCreator liggghts_contact_atom = NULL;
-
-Compute *contact_atom_unless_polyhedra(LAMMPS *lmp, int iarg, int narg, char **arg)
-{
-  if (lmp->atom->atom_style && strcmp(lmp->atom->atom_style, "polyhedron") == 0)
-    lmp->error->all(FLERR, "Compute contact/atom counts bounding spheres within the skin of each other; with "
-                           "atom_style polyhedron use compute contact/polyhedron (the polyhedra that overlap)");
-  return liggghts_contact_atom(lmp, iarg, narg, arg);
-}
-
 void register_styles(LAMMPS *lmp)
 {
   std::map<std::string, FixCreator> &fixes = *(lmp->modify->*exposed(FixMapTag()));
@@ -158,13 +146,9 @@ void register_styles(LAMMPS *lmp)
   computes["contact/polyhedron"] = &create_compute<ComputeContactPolyhedron>;
   computes["wall/polyhedral/local"] = &create_compute<ComputeWallPolyhedralLocal>;
   commands["create_polyhedron"] = &run_command<CreatePolyhedron>;
-  // LIGGGHTS fixes that assume spheres stop with an ERROR: under atom_style polyhedron.
+  // LIGGGHTS fixes and computes that assume spheres stop with an ERROR: under atom_style polyhedron.
   polyhedral_guard_sphere_fixes(fixes);
-  std::map<std::string, ComputeCreator>::iterator contact_atom = computes.find("contact/atom");
-  if (contact_atom != computes.end() && contact_atom->second != &contact_atom_unless_polyhedra) {
-    liggghts_contact_atom = contact_atom->second;
-    contact_atom->second = &contact_atom_unless_polyhedra;
-  }
+  polyhedral_guard_sphere_computes(computes);
 }
 
 }  // namespace
