@@ -22,6 +22,7 @@
 #include "fix_particletemplate_polyhedron.h"
 #include "fix_wall_polyhedral.h"
 #include "pair_polyhedral_volumetric.h"
+#include "poly_contact.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -147,8 +148,7 @@ void FixCheckTimestepPolyhedral::estimate_times()
     mass[i] = atom->density[i] * volume;
     const int t = atom->type[i];
     const double e = youngs->compute_vector(t - 1), nu = poisson->compute_vector(t - 1);
-    const double shear = e / (2.0 * (1.0 + nu));
-    rayleigh = fmin(rayleigh, M_PI * radius[i] * sqrt(atom->density[i] / shear) / (0.1631 * nu + 0.8766));
+    rayleigh = fmin(rayleigh, poly_rayleigh_time(radius[i], atom->density[i], e, nu));
     smallest = fmin(smallest, radius[i]);
     double *v = atom->v[i];
     fastest = fmax(fastest, sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
@@ -166,8 +166,8 @@ void FixCheckTimestepPolyhedral::estimate_times()
     if (!(atom->mask[i] & groupbit) || !(radius[i] > 0.0)) continue;
     const int t = atom->type[i];
     const double e = youngs->compute_vector(t - 1), nu = poisson->compute_vector(t - 1);
-    const double e_eff = e / (2.0 * (1.0 - nu * nu));
-    hertz = fmin(hertz, 2.87 * pow(mass[i] * mass[i] / (0.5 * radius[i] * e_eff * e_eff * speed), 0.2));
+    // As LIGGGHTS: the particle's whole mass (not the pair's reduced mass) and half its radius.
+    hertz = fmin(hertz, poly_hertz_time(mass[i], 0.5 * radius[i], e / (2.0 * (1.0 - nu * nu)), speed));
   }
   double hertz_all = 1e300;
   MPI_Allreduce(&hertz, &hertz_all, 1, MPI_DOUBLE, MPI_MIN, world);

@@ -402,12 +402,11 @@ void PairPolyhedralVolumetric::check_timestep()
     if (!shape_template) continue;
     double volume = shape_template->shape().volume, mass = atom->density[i] * volume;
     double r = cbrt(3.0 * volume / (4.0 * M_PI));
-    double shear = e / (2.0 * (1.0 + nu));
-    double t_rayleigh = M_PI * r * sqrt(atom->density[i] / shear) / (0.1631 * nu + 0.8766);
+    double t_rayleigh = poly_rayleigh_time(r, atom->density[i], e, nu);
     if (t_rayleigh < rayleigh) rayleigh = t_rayleigh;
     if (approach > 0.0) {
-      double m_eff = 0.5 * mass, r_eff = 0.5 * r, e_eff = e / (2.0 * (1.0 - nu * nu));
-      double t_hertz = 2.87 * pow(m_eff * m_eff / (r_eff * e_eff * e_eff * approach), 0.2);
+      // Two equal particles: reduced mass m/2, radius r/2.
+      double t_hertz = poly_hertz_time(0.5 * mass, 0.5 * r, e / (2.0 * (1.0 - nu * nu)), approach);
       if (t_hertz < hertz) hertz = t_hertz;
     }
   }

@@ -235,6 +235,20 @@ POLY_INLINE void poly_material_pair_make(double youngs_i, double poisson_i, doub
   pair->cohesion = 0.0;
 }
 
+/* The time-step estimates LIGGGHTS makes for spheres (fix check/timestep/gran): the Rayleigh time of a
+ * particle of radius r, pi r sqrt(rho / G) / (0.1631 nu + 0.8766), G = E / (2 (1 + nu)), and the Hertz
+ * contact time 2.87 (m^2 / (r E*^2 v))^(1/5) of mass m, radius r, effective modulus E* at approach speed v. */
+POLY_INLINE double poly_rayleigh_time(double radius, double density, double youngs, double poisson)
+{
+  const double shear = youngs / (2.0 * (1.0 + poisson));
+  return POLY_PI * radius * sqrt(density / shear) / (0.1631 * poisson + 0.8766);
+}
+
+POLY_INLINE double poly_hertz_time(double mass, double radius, double youngs_effective, double speed)
+{
+  return 2.87 * pow(mass * mass / (radius * youngs_effective * youngs_effective * speed), 0.2);
+}
+
 /* Evaluates the law and advances `history` (POLY_HISTORY_SIZE doubles, zero
  * for a new contact). `tangential` and `damping` switch those parts on. */
 POLY_INLINE void poly_contact_evaluate(const poly_contact_input *in, const poly_material_pair *material, int tangential,
