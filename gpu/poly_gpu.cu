@@ -497,11 +497,6 @@ int poly_gpu_detail::wall_kernel_choice()
   return state.options.wall_kernel;
 }
 
-bool poly_gpu_detail::any_nonconvex()
-{
-  return state.any_nonconvex;
-}
-
 extern "C" int poly_gpu_device_count(void)
 {
   int count = 0;

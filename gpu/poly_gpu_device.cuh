@@ -252,11 +252,9 @@ inline bool warp_launch(Kernel kernel, const WarpLimits &limits, WarpLaunch *lau
 const DeviceShapes *device_shapes();
 
 // For the shapes of poly_gpu_init in a precision: the warp kernels' limits, each count at least the minimum
-// given (a wall's prism: 6 vertices, 8 triangles, 12 edges); POLY_GPU_WALL_KERNEL (0 unset, 1 thread, 2 warp);
-// whether some shape is not convex.
+// given (a wall's prism: 6 vertices, 8 triangles, 12 edges); POLY_GPU_WALL_KERNEL (0 unset, 1 thread, 2 warp).
 WarpLimits warp_limits(int precision, int min_vertices, int min_triangles, int min_edges);
 int wall_kernel_choice();
-bool any_nonconvex();
 
 // The wall narrow phase's device memory (poly_gpu_wall.cu), for poly_gpu_bytes and poly_gpu_clear.
 size_t wall_bytes();

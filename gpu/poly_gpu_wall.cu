@@ -61,6 +61,24 @@ template <typename View, typename Real> __device__ inline View prism_view(const 
   return prism;
 }
 
+// The prism's vertices then normals into `reals` in the kernel's precision: entries first, first + step, ...
+// (one thread: 0, 1; a group of lanes: its lane, its size).
+template <typename Real>
+__device__ inline void prism_reals_of(const poly_gpu_wall_piece &piece, Real *reals, int first, int step)
+{
+  for (int k = first; k < 18; k += step) reals[k] = (Real)piece.vertices[k];
+  for (int k = first; k < 24; k += step) reals[18 + k] = (Real)piece.face_normals[k];
+}
+
+// A piece's result before its overlap is known: no overlap, no nodes.
+__device__ inline poly_gpu_wall_overlap no_wall_overlap()
+{
+  poly_gpu_wall_overlap out;
+  memset(&out, 0, sizeof out);
+  out.first_node = -1;
+  return out;
+}
+
 // The particle's rotation and the prism's pose in the particle's body frame, as poly_overlap_d computes them.
 __device__ inline void piece_pose(const poly_gpu_wall_piece &piece, double *rotation_a, double *rotation,
                                   double *translation)
@@ -99,15 +117,12 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
   const poly_gpu_wall_piece &piece = pieces[c];
 
   Real prism_reals[kPrismReals];
-  for (int k = 0; k < 18; k++) prism_reals[k] = (Real)piece.vertices[k];
-  for (int k = 0; k < 24; k++) prism_reals[18 + k] = (Real)piece.face_normals[k];
+  prism_reals_of(piece, prism_reals, 0, 1);
   typename N::View prism = prism_view<typename N::View>(piece, prism_reals);
   double rotation_a[9], rotation[9], translation[3];
   piece_pose(piece, rotation_a, rotation, translation);
 
-  poly_gpu_wall_overlap out;
-  memset(&out, 0, sizeof out);
-  out.first_node = -1;
+  poly_gpu_wall_overlap out = no_wall_overlap();
   double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
   WorkspaceMemory<LocalBytes> memory;
   typename N::Workspace ws;
@@ -160,8 +175,7 @@ __global__ void __launch_bounds__(kThreads)
   }
   char *block = (char *)warp_blocks + (size_t)group * limits.bytes;
   Real *prism_reals = (Real *)block;
-  for (int k = lanes.lane; k < 18; k += lanes.size) prism_reals[k] = (Real)piece.vertices[k];
-  for (int k = lanes.lane; k < 24; k += lanes.size) prism_reals[18 + k] = (Real)piece.face_normals[k];
+  prism_reals_of(piece, prism_reals, lanes.lane, lanes.size);
   typename N::WarpMemory memory;
   N::warp_layout(&memory, block + prism_bytes, limits.vertices, limits.triangles, limits.edges, limits.records);
   __syncwarp(lanes.mask);
@@ -170,9 +184,7 @@ __global__ void __launch_bounds__(kThreads)
   double rotation_a[9], rotation[9], translation[3];
   piece_pose(piece, rotation_a, rotation, translation);
 
-  poly_gpu_wall_overlap out;
-  memset(&out, 0, sizeof out);
-  out.first_node = -1;
+  poly_gpu_wall_overlap out = no_wall_overlap();
   double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
   typename N::WarpFrame frame;
   // want_second 1: the host drops it when the wall's rocking damping is off
