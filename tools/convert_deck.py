@@ -29,10 +29,11 @@ import argparse
 import math
 import pathlib
 import re
-import struct
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+import shape_files  # noqa: E402
 
 # LIGGGHTS keywords of pair gran / wall/gran that mean what the volumetric law does.
 ACCEPTED = {("model", "hertz"), ("tangential", "history"), ("cohesion", "off"), ("cohesion", "sjkr"),
@@ -42,73 +43,11 @@ MODEL_KEYWORDS = {"model", "tangential", "cohesion", "rolling_friction", "surfac
 
 # shapes -------------------------------------------------------------------------------------------------
 
-def read_mesh(path):
-    """Vertices and triangles of an OBJ, OFF or (ASCII or binary) STL file."""
-    data = path.read_bytes()
-    suffix = path.suffix.lower()
-    vertices, triangles = [], []
-    if suffix == ".obj":
-        for line in data.decode(errors="replace").splitlines():
-            w = line.split()
-            if w[:1] == ["v"]:
-                vertices.append(tuple(float(x) for x in w[1:4]))
-            elif w[:1] == ["f"]:
-                idx = [int(x.split("/")[0]) - 1 for x in w[1:]]
-                triangles += [(idx[0], idx[i], idx[i + 1]) for i in range(1, len(idx) - 1)]
-    elif suffix == ".off":
-        words = [w for line in data.decode(errors="replace").splitlines()
-                 for w in line.split("#")[0].split()]
-        if words[0].upper() == "OFF":
-            words = words[1:]
-        nv, nf = int(words[0]), int(words[1])
-        k = 3
-        for _ in range(nv):
-            vertices.append(tuple(float(x) for x in words[k:k + 3]))
-            k += 3
-        for _ in range(nf):
-            n = int(words[k])
-            idx = [int(x) for x in words[k + 1:k + 1 + n]]
-            triangles += [(idx[0], idx[i], idx[i + 1]) for i in range(1, n - 1)]
-            k += 1 + n
-    elif suffix == ".stl":
-        corners = []
-        if data[:5].lower() == b"solid" and b"facet" in data[:1000]:
-            for line in data.decode(errors="replace").splitlines():
-                w = line.split()
-                if w[:1] == ["vertex"]:
-                    corners.append(tuple(float(x) for x in w[1:4]))
-        else:
-            count = struct.unpack("<I", data[80:84])[0]
-            for t in range(count):
-                values = struct.unpack("<12f", data[84 + 50 * t:84 + 50 * t + 48])
-                corners += [values[3:6], values[6:9], values[9:12]]
-        index = {}
-        for c in corners:
-            index.setdefault(c, len(index))
-        vertices = list(index)
-        triangles = [(index[corners[i]], index[corners[i + 1]], index[corners[i + 2]])
-                     for i in range(0, len(corners) - 2, 3)]
-    else:
-        raise ValueError(f"{path}: not an OBJ, OFF or STL file")
-    return vertices, triangles
-
-
 def volume_and_radius(path):
     """The mesh's volume and the largest distance of a vertex from its centroid (file units)."""
-    vertices, triangles = read_mesh(path)
-    volume, moment = 0.0, [0.0, 0.0, 0.0]
-    for i, j, k in triangles:
-        a, b, c = vertices[i], vertices[j], vertices[k]
-        v6 = (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-              a[2] * (b[0] * c[1] - b[1] * c[0]))
-        volume += v6 / 6.0
-        for n in range(3):
-            moment[n] += v6 / 24.0 * (a[n] + b[n] + c[n])
-    volume = abs(volume)
-    centre = [m / volume if volume > 0 else 0.0 for m in moment]
-    if volume < 0:
-        centre = [-x for x in centre]
-    return volume, max(math.dist(v, centre) for v in vertices)
+    vertices, triangles = shape_files.read_mesh(path)
+    volume, centre, _ = shape_files.mass_properties(vertices, triangles)
+    return abs(volume), shape_files.bounding_radius(vertices, centre)
 
 
 # deck lines ---------------------------------------------------------------------------------------------

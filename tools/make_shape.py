@@ -26,7 +26,7 @@ import tempfile
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
-from convert_deck import read_mesh  # noqa: E402
+from shape_files import mass_properties as shape_mass_properties, read_mesh  # noqa: E402
 
 from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkImplicitBoolean, vtkPolyData, vtkSphere  # noqa: E402
@@ -120,41 +120,9 @@ def decimate(vertices, triangles, target):
 
 
 def mass_properties(vertices, triangles):
-    """Volume (outward orientation positive) and the principal moments per unit density about the centroid."""
-    volume, first = 0.0, [0.0, 0.0, 0.0]
-    second = [[0.0] * 3 for _ in range(3)]
-    for i, j, k in triangles:
-        a, b, c = vertices[i], vertices[j], vertices[k]
-        v6 = (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-              a[2] * (b[0] * c[1] - b[1] * c[0]))
-        volume += v6 / 6.0
-        for p in range(3):
-            first[p] += v6 / 24.0 * (a[p] + b[p] + c[p])
-            for q in range(3):
-                second[p][q] += v6 / 120.0 * (a[p] * a[q] + b[p] * b[q] + c[p] * c[q] +
-                                              (a[p] + b[p] + c[p]) * (a[q] + b[q] + c[q]))
-    centre = [f / volume for f in first]
-    covariance = [[second[p][q] - volume * centre[p] * centre[q] for q in range(3)] for p in range(3)]
-    trace = covariance[0][0] + covariance[1][1] + covariance[2][2]
-    inertia = [[(trace if p == q else 0.0) - covariance[p][q] for q in range(3)] for p in range(3)]
-    return volume, sorted(eigenvalues_symmetric(inertia))
-
-
-def eigenvalues_symmetric(m):
-    """Eigenvalues of a symmetric 3x3 matrix (the trigonometric closed form)."""
-    p1 = m[0][1] ** 2 + m[0][2] ** 2 + m[1][2] ** 2
-    q = (m[0][0] + m[1][1] + m[2][2]) / 3.0
-    if p1 == 0.0:
-        return [m[0][0], m[1][1], m[2][2]]
-    p2 = sum((m[k][k] - q) ** 2 for k in range(3)) + 2 * p1
-    p = math.sqrt(p2 / 6.0)
-    b = [[(m[r][c] - (q if r == c else 0.0)) / p for c in range(3)] for r in range(3)]
-    det = (b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) - b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
-           b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]))
-    phi = math.acos(max(-1.0, min(1.0, det / 2.0))) / 3.0
-    e1 = q + 2 * p * math.cos(phi)
-    e3 = q + 2 * p * math.cos(phi + 2 * math.pi / 3)
-    return [e1, 3 * q - e1 - e3, e3]
+    """Volume and principal moments per unit density (tools/shape_files.py)."""
+    volume, _, moments = shape_mass_properties(vertices, triangles)
+    return volume, moments
 
 
 def write_obj(path, vertices, triangles, comment):

@@ -30,38 +30,23 @@ import time
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(ROOT / "tools"))
 import make_hopper  # noqa: E402
+import shape_files  # noqa: E402
 
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 
 
 def read_obj(path):
-    verts, tris = [], []
-    for line in open(path):
-        w = line.split()
-        if not w:
-            continue
-        if w[0] == "v":
-            verts.append([float(x) for x in w[1:4]])
-        elif w[0] == "f":
-            idx = [int(x.split("/")[0]) - 1 for x in w[1:]]
-            tris += [(idx[0], idx[i], idx[i + 1]) for i in range(1, len(idx) - 1)]
-    return verts, tris
+    """Vertices and triangles of a shape file (tools/shape_files.py; OBJ, OFF or STL)."""
+    return shape_files.read_mesh(path)
 
 
 def bounding_radius(path):
     """Largest distance of a vertex from the centre of mass (file units), as the template computes it."""
-    verts, tris = read_obj(path)
-    vol, c = 0.0, [0.0, 0.0, 0.0]
-    for i, j, k in tris:
-        a, b, cc = verts[i], verts[j], verts[k]
-        v6 = (a[0] * (b[1] * cc[2] - b[2] * cc[1]) - a[1] * (b[0] * cc[2] - b[2] * cc[0])
-              + a[2] * (b[0] * cc[1] - b[1] * cc[0]))
-        vol += v6 / 6
-        for n in range(3):
-            c[n] += v6 / 6 * (a[n] + b[n] + cc[n]) / 4
-    c = [x / vol for x in c]
-    return max(math.dist(v, c) for v in verts)
+    vertices, triangles = shape_files.read_mesh(path)
+    _, centre, _ = shape_files.mass_properties(vertices, triangles)
+    return shape_files.bounding_radius(vertices, centre)
 
 
 def geometry(a):
