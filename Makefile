@@ -49,6 +49,7 @@ endif
 DEFINES := $(MPI_DEFINES) $(PRECISION_DEFINE) $(CUDA_DEFINE)
 CFLAGS := -std=c11 $(OPT) -fPIC -Wall -Wextra $(DEFINES) $(CFLAGS_EXTRA)
 CXXFLAGS := -std=c++11 $(OPT) -fPIC -Wall $(DEFINES) -I$(LIGGGHTS_INCLUDE) -Isrc -Igpu $(CXXFLAGS_EXTRA)
+VTK_CXXFLAGS := -isystem $(VTK_INCLUDE)
 NVCCFLAGS := -std=c++14 -O3 -arch=$(CUDA_ARCH) -Xcompiler -fPIC -Isrc -Igpu
 
 .PHONY: pile all install test example clean info sanitize
@@ -67,6 +68,18 @@ $(BUILD)/obj/%.o: src/%.cpp $(wildcard src/*.h) Makefile Makefile.package
 	@mkdir -p $(dir $@)
 	$(MPICXX) $(CXXFLAGS) -c $< -o $@
 
+ifeq ($(VTK_INCLUDE),)
+$(BUILD)/obj/dump_polyhedron_vtk.o: vtk_missing
+endif
+.PHONY: vtk_missing
+vtk_missing:
+	$(error VTK 9.1 headers not found (dump polyhedron/vtk needs them): run `bash tools/debian_deps.sh`, or set VTK_INCLUDE=)
+
+# Only the VTK dump sees VTK's headers.
+$(BUILD)/obj/dump_polyhedron_vtk.o: src/dump_polyhedron_vtk.cpp $(wildcard src/*.h) Makefile Makefile.package
+	@mkdir -p $(dir $@)
+	$(MPICXX) $(CXXFLAGS) $(VTK_CXXFLAGS) -c $< -o $@
+
 $(BUILD)/obj/%.o: gpu/%.cu $(wildcard gpu/*.h gpu/*.cuh) $(wildcard src/poly_*.h) Makefile Makefile.package
 	@mkdir -p $(dir $@)
 	$(NVCC) $(NVCCFLAGS) -c $< -o $@
@@ -78,7 +91,7 @@ $(BUILD)/tests/%: tests/unit/%.cpp $(CUDA_OBJECTS) $(filter $(BUILD)/obj/poly_%,
 
 $(LIBRARY): $(OBJECTS) $(CUDA_OBJECTS)
 	@mkdir -p $(dir $@)
-	$(MPICXX) -shared $(LDFLAGS_EXTRA) -o $@ $(OBJECTS) $(CUDA_OBJECTS) $(LIGGGHTS_LIBS) $(CUDA_LIBS) -ldl -lm
+	$(MPICXX) -shared $(LDFLAGS_EXTRA) -o $@ $(OBJECTS) $(CUDA_OBJECTS) $(LIGGGHTS_LIBS) $(VTK_LIBS) $(CUDA_LIBS) -ldl -lm
 
 # libpolyhedral must precede libliggghts in the link so its definitions of the
 # hooked LIGGGHTS methods win symbol lookup (see src/polyhedral_register.cpp).

@@ -1,22 +1,23 @@
-"""dump polyhedron/vtk: surfaces in world coordinates, valid VTK XML PolyData."""
-import xml.etree.ElementTree as ElementTree
+"""dump polyhedron/vtk: surfaces in world coordinates, written by VTK's XML writers and read back by VTK's readers
+(ParaView's Python) in every encoding; one file from rank 0 or a piece per rank."""
+import pathlib
+import sys
 
 import numpy as np
+import pytest
 
 import decks
 from test_rigid_body import rotation_matrix
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "tools"))
+from render_vtp import read_vtp as read_surfaces  # noqa: E402
+
 
 def read_vtp(path):
-    root = ElementTree.parse(path).getroot()
-    assert root.tag == "VTKFile" and root.get("type") == "PolyData"
-    piece = root.find("PolyData/Piece")
-    arrays = {}
-    for array in piece.iter("DataArray"):
-        values = np.array(array.text.split(), dtype=float)
-        components = int(array.get("NumberOfComponents", "1"))
-        arrays[array.get("Name") or "points"] = values.reshape(-1, components) if components > 1 else values
-    return int(piece.get("NumberOfPoints")), int(piece.get("NumberOfPolys")), arrays
+    points, triangles, arrays = read_surfaces(path)
+    arrays = dict(arrays, points=points, connectivity=triangles.ravel(),
+                  offsets=3 * np.arange(1, len(triangles) + 1))
+    return len(points), len(triangles), arrays
 
 
 def test_surfaces_are_template_vertices_rotated_and_translated(run_deck, tmp_path):
@@ -67,3 +68,88 @@ def test_group_selects_particles(run_deck):
     points_count, cells, arrays = read_vtp(result.workdir / "second_0.vtp")
     assert (points_count, cells) == (8, 12)
     assert np.all(arrays["id"] == 2)
+
+
+PILE = (decks.header(boundary="f f f", ntypes=2, processors="2 1 1") + decks.materials() +
+        decks.template("rock", "rock_40.obj", scale=0.1) +
+        decks.template("cube", "cube.stl", scale=0.08, atom_type=1, seed=32452843) +
+        "pair_style polyhedral/volumetric\npair_coeff * *\n"
+        "fix floor all wall/polyhedral primitive type 1 zplane 0.0\n"
+        "region fill block 0.1 0.9 0.1 0.9 0.05 0.45\n"
+        "fix shapes all particledistribution/discrete 49979687 2 rock 0.5 cube 0.5\n"
+        "fix put all insert/pack seed 67867967 distributiontemplate shapes insert_every once overlapcheck yes "
+        "orientation random all_in yes particles_in_region 40 region fill\n"
+        "fix integrate all nve/polyhedron\nfix gravity all gravity 9.81 vector 0 0 -1\n"
+        "neighbor 0.02 bin\nneigh_modify delay 0\ntimestep 1e-4\nrun 4000\n"
+        "compute contacts all contact/polyhedron\n")
+
+
+def test_encodings_and_pieces_hold_the_same_surfaces_and_fields(run_deck):
+    """One settling pile on 2 ranks, dumped at the same step as ASCII, raw binary, zlib and lz4 .vtp files and as
+    a .pvtp with a piece per rank: VTK reads all back to the same arrays; force and contact count are those of
+    dump custom and compute contact/polyhedron; the .pvtp's pieces are the ranks' particles."""
+    deck = (PILE +
+            "dump text all custom 1 state.txt id fx fy fz c_contacts\ndump_modify text format \"%d %.17g %.17g %.17g %g\"\n"
+            "dump ascii all polyhedron/vtk 1 ascii_*.vtp\ndump_modify ascii binary no\n"
+            "dump raw all polyhedron/vtk 1 raw_*.vtp\ndump_modify raw compressor none\n"
+            "dump zlib all polyhedron/vtk 1 zlib_*.vtp\n"
+            "dump lz4 all polyhedron/vtk 1 lz4_*.vtp\ndump_modify lz4 compressor lz4\n"
+            "dump ranks all polyhedron/vtk 1 ranks_*.pvtp\n"
+            "run 0\n")
+    result = run_deck(deck, nprocs=2)
+    assert result.returncode == 0, result.output
+    work = result.workdir
+    step = 4000
+    reference = read_surfaces(work / f"ascii_{step}.vtp")
+    points, triangles, arrays = reference
+    assert set(arrays) == {"id", "type", "shape", "v", "omega", "f", "contacts"}
+    for name in ("raw", "zlib", "lz4"):
+        other_points, other_triangles, other = read_surfaces(work / f"{name}_{step}.vtp")
+        assert np.array_equal(other_triangles, triangles)
+        assert np.allclose(other_points, points, rtol=0, atol=1e-14)
+        for key in arrays:
+            assert np.allclose(other[key], arrays[key], rtol=1e-14, atol=0), (name, key)
+    sizes = {name: (work / f"{name}_{step}.vtp").stat().st_size for name in ("ascii", "raw", "zlib", "lz4")}
+    assert sizes["zlib"] < sizes["raw"] < sizes["ascii"], sizes
+
+    # Force and contact count per particle, as dump custom and compute contact/polyhedron give them.
+    columns, rows = decks.read_dump(work / "state.txt")
+    first = np.unique(arrays["id"], return_index=True)[1]
+    ids = arrays["id"][first].astype(int)
+    assert len(ids) == 40 and sorted(rows) == sorted(ids)
+    expected_force = np.array([rows[i][1:4] for i in ids])
+    assert np.allclose(arrays["f"][first], expected_force, rtol=1e-9, atol=1e-12)
+    expected_contacts = np.array([rows[i][4] for i in ids])
+    assert np.array_equal(arrays["contacts"][first], expected_contacts)
+    assert expected_contacts.sum() > 20    # a pile, so the comparison is not of zeros
+    assert np.abs(expected_force).max() > 0
+
+    # The .pvtp: an index and one piece per rank, together the same particles.
+    index = work / f"ranks_{step}.pvtp"
+    pieces = sorted(work.glob(f"ranks_{step}_*.vtp"))
+    assert len(pieces) == 2, sorted(p.name for p in work.iterdir())
+    piece_ids = [np.unique(read_surfaces(piece)[2]["id"]) for piece in pieces]
+    assert len(piece_ids[0]) > 0 and len(piece_ids[1]) > 0
+    assert not set(piece_ids[0]) & set(piece_ids[1])
+    all_points, all_triangles, all_arrays = read_surfaces(index)
+    order = np.argsort(all_arrays["id"], kind="stable")
+    assert np.array_equal(all_arrays["id"][order], arrays["id"])
+    assert np.allclose(all_arrays["f"][order], arrays["f"], rtol=1e-14, atol=0)
+    # Each triangle's corner points, compared in id order.
+    corners = all_points[all_triangles][order]
+    assert np.allclose(corners, points[triangles], rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize("lines, message", [
+    ("dump d all polyhedron/vtk 10 wrong_*.vtu\n", "must end in .vtp"),
+    ("dump d all polyhedron/vtk 10 d_*.vtp\ndump_modify d compressor bzip2\n", "compressor zlib|lz4|none"),
+    ("dump d all polyhedron/vtk 10 d_*.vtp\ndump_modify d binary maybe\n", "binary yes|no"),
+    # The deck file itself stands where a directory should be (VTK creates missing directories).
+    ("dump d all polyhedron/vtk 10 in.deck/d_*.vtp\n", "could not write in.deck/d_0.vtp"),
+])
+def test_bad_dump_input_is_an_error(run_deck, lines, message):
+    deck = (decks.header() + decks.template("cube", "cube.stl", scale=0.05) +
+            "create_polyhedron cube 0.5 0.5 0.5\nfix integrate all nve/polyhedron\n" + lines + "run 0\n")
+    result = run_deck(deck)
+    assert result.returncode != 0
+    assert "ERROR" in result.output and message in result.output, result.output[-2000:]

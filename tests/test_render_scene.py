@@ -45,6 +45,7 @@ def scene(launcher, tmp_path_factory):
             "timestep 1e-4\n"
             "dump d1 all mesh/vtk 500 post/mesh_*.vtk stress\n"
             "dump d2 all polyhedron/vtk 500 post/particles_*.vtp\n"
+            "dump d3 all polyhedron/vtk 500 post/pieces_*.pvtp\n"
             f"run {STEPS}\n")
     (workdir / "in.scene").write_text(deck)
     result = subprocess.run([str(launcher), "-in", "in.scene", "-log", "log.lammps", "-var", "SHAPES", str(SHAPES)],
@@ -130,3 +131,13 @@ def test_paraview_renders_the_series_and_writes_a_state(scene):
     for step in (0, 500, 1000, 1500):
         assert str(scene / "post" / f"particles_{step}.vtp") in state
         assert str(scene / "post" / f"mesh_{step}.vtk") in state
+
+
+@pytest.mark.skipif(not paraview_usable(), reason="needs python3-paraview and xvfb (or a DISPLAY)")
+def test_paraview_renders_a_series_of_pieces(scene):
+    """dump polyhedron/vtk's .pvtp (an index and a piece per rank, through VTK's parallel writer) in ParaView."""
+    result = render(scene, "pieces.png", "post/pieces_*.pvtp", "--backend", "paraview", "--size", "640", "480",
+                    "--colour", "speed", "--state", "pieces.pvsm")
+    assert result.returncode == 0, result.stdout + result.stderr
+    check_picture(scene / "pieces.png", 640, 480)
+    assert str(scene / "post" / "pieces_1500.pvtp") in (scene / "pieces.pvsm").read_text()

@@ -5,7 +5,7 @@
     python3 tools/render_scene.py scene.png post/particles_2500.vtp post/mesh_2500.vtk
     python3 tools/render_scene.py scene.png 'post/particles_*.vtp' 'post/mesh_*.vtk' --state scene.pvsm
 
-Files ending in .vtp are particles, files ending in .vtk are meshes; a quoted pattern with `*` is a time
+Files ending in .vtp or .pvtp (a piece per rank) are particles, files ending in .vtk are meshes; a quoted pattern with `*` is a time
 series (in the state file) and the picture shows its last step. Two renderers:
 
 - `paraview` (default when Debian's `python3-paraview` is installed, which `liggghts` recommends): ParaView's
@@ -239,8 +239,9 @@ def render_paraview(args, particle_series, mesh_series):
         display.Opacity = args.opacity
         sources.append(reader)
     for files in particle_series:
-        reader = simple.XMLPolyDataReader(registrationName=os.path.basename(files[0]).split("_")[0],
-                                          FileName=[os.path.abspath(f) for f in files])
+        read = simple.XMLPartitionedPolydataReader if files[0].endswith(".pvtp") else simple.XMLPolyDataReader
+        reader = read(registrationName=os.path.basename(files[0]).split("_")[0],
+                      FileName=[os.path.abspath(f) for f in files])
         display = simple.Show(reader, view)
         if args.colour == "speed":
             simple.ColorBy(display, ("CELLS", "v", "Magnitude"))
@@ -286,7 +287,8 @@ def paraview_available():
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("png")
-    parser.add_argument("files", nargs="+", help=".vtp particle and .vtk mesh files (or quoted '*' patterns)")
+    parser.add_argument("files", nargs="+",
+                        help=".vtp or .pvtp particle and .vtk mesh files (or quoted '*' patterns)")
     parser.add_argument("--colour", default="shape", help="shape, type, id, speed, v or omega (default shape)")
     parser.add_argument("--mesh-colour", default=None,
                         help="a cell field of the mesh files, or none (default normal_stress_average if present)")
@@ -298,10 +300,10 @@ def main():
     args = parser.parse_args()
 
     series = [expand(pattern) for pattern in args.files]
-    particle_series = [s for s in series if s[0].endswith(".vtp")]
+    particle_series = [s for s in series if s[0].endswith((".vtp", ".pvtp"))]
     mesh_series = [s for s in series if s[0].endswith(".vtk")]
     if len(particle_series) + len(mesh_series) != len(series):
-        parser.error("files must end in .vtp (particles) or .vtk (meshes)")
+        parser.error("files must end in .vtp or .pvtp (particles) or .vtk (meshes)")
 
     backend = args.backend
     if backend == "auto":

@@ -4,7 +4,6 @@
     python3 tools/render_vtp.py particles_1000.vtp picture.png [--colour shape|type|id|speed]
 """
 import argparse
-import xml.etree.ElementTree as ElementTree
 
 import matplotlib
 
@@ -15,15 +14,26 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 
 def read_vtp(path):
-    piece = ElementTree.parse(path).getroot().find("PolyData/Piece")
-    arrays = {}
-    for array in piece.iter("DataArray"):
-        values = np.array(array.text.split(), dtype=float)
-        components = int(array.get("NumberOfComponents", "1"))
-        arrays[array.get("Name") or "points"] = values.reshape(-1, components) if components > 1 else values
-    points = arrays.pop("points")
-    triangles = arrays.pop("connectivity").astype(int).reshape(-1, 3)
-    arrays.pop("offsets")
+    """Points, triangles and per-triangle arrays of a dump polyhedron/vtk snapshot (.vtp, or .pvtp with its
+    pieces), read by VTK's own XML readers (ParaView's Python, python3-paraview), whatever the encoding."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLPPolyDataReader
+
+    reader = vtkXMLPPolyDataReader() if str(path).endswith(".pvtp") else vtkXMLPolyDataReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    if reader.GetErrorCode() != 0:
+        raise OSError(f"VTK could not read {path}")
+    surfaces = reader.GetOutput()
+    points = vtk_to_numpy(surfaces.GetPoints().GetData()).astype(float)
+    polys = surfaces.GetPolys()
+    offsets = vtk_to_numpy(polys.GetOffsetsArray())
+    if not np.all(np.diff(offsets) == 3):
+        raise ValueError(f"{path}: not all cells are triangles")
+    triangles = vtk_to_numpy(polys.GetConnectivityArray()).astype(int).reshape(-1, 3)
+    cell_data = surfaces.GetCellData()
+    arrays = {cell_data.GetArrayName(k): vtk_to_numpy(cell_data.GetArray(k)).copy()
+              for k in range(cell_data.GetNumberOfArrays())}
     return points, triangles, arrays
 
 

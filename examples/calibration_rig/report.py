@@ -22,9 +22,13 @@ import json
 import math
 import pathlib
 import re
+import sys
 
 import numpy as np
 from scipy.optimize import curve_fit
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent.parent / "tools"))
+import render_vtp  # noqa: E402
 
 # the hopper example's reader of LIGGGHTS dump files
 _spec = importlib.util.spec_from_file_location("hopper_report", pathlib.Path(__file__).resolve().parent.parent
@@ -83,20 +87,10 @@ def height_map(points, x_hi, bins):
 
 
 def read_vtp(path):
-    """Points (n x 3) and, for each point, the id of its particle, from dump polyhedron/vtk's ASCII file."""
-    text = pathlib.Path(path).read_text()
-
-    def array(pattern):
-        body = re.search(pattern + r'[^>]*>(.*?)</DataArray>', text, re.S).group(1)
-        return np.array(body.split(), float)
-    points = array(r'<Points>\s*<DataArray').reshape(-1, 3)
-    connectivity = array(r'Name="connectivity"').astype(int)
-    offsets = array(r'Name="offsets"').astype(int)
-    cell_id = array(r'Name="id"').astype(int)
+    """Points (n x 3) and, for each point, the id of its particle, from a dump polyhedron/vtk snapshot."""
+    points, triangles, arrays = render_vtp.read_vtp(path)
     owner = np.zeros(len(points), int)
-    starts = np.concatenate(([0], offsets[:-1]))
-    for start, end, pid in zip(starts, offsets, cell_id):
-        owner[connectivity[start:end]] = pid
+    owner[triangles] = arrays["id"][:, None]
     return points, owner
 
 
