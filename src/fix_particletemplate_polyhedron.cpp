@@ -4,6 +4,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <algorithm>
 #include <vector>
 
 #include <mpi.h>
@@ -223,8 +224,12 @@ void FixParticletemplatePolyhedron::setup(int)
 void FixParticletemplatePolyhedron::warn_initial_overlaps()
 {
   // setup() has checked that force->pair is the pair style the probe was registered with.
-  const std::vector<PolyContactRecord> &records =
-      static_cast<PairPolyhedralVolumetric *>(force->pair)->recorded_contacts();
+  const PairPolyhedralVolumetric *pair = static_cast<PairPolyhedralVolumetric *>(force->pair);
+  const std::vector<PolyContactRecord> &records = pair->recorded_contacts();
+  double largest_allowance = kInitialOverlapFraction;  // without an atom map: the most any type pair allows
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = 1; j <= atom->ntypes; j++)
+      largest_allowance = std::max(largest_allowance, poly_initial_overlap_allowance(&pair->material_of(i, j)));
   double smallest_diameter = 0.0;  // without an atom map: the smallest template's
   for (int i = 0; i < modify->nfix; i++)
     if (modify->fix[i] && strcmp(modify->fix[i]->style, kStyle) == 0) {
@@ -233,14 +238,17 @@ void FixParticletemplatePolyhedron::warn_initial_overlaps()
     }
   double counts[2] = {0.0, 0.0}, deepest[2] = {0.0, 0.0};  // count, pairs; deepest fraction, its depth
   for (size_t r = 0; r < records.size(); r++) {
-    double size = smallest_diameter;
+    double size = smallest_diameter, allowance = largest_allowance;
     if (atom->map_style) {
       int i = atom->map(records[r].id_i), j = atom->map(records[r].id_j);
-      if (i >= 0 && j >= 0) size = 2.0 * (atom->radius[i] < atom->radius[j] ? atom->radius[i] : atom->radius[j]);
+      if (i >= 0 && j >= 0) {
+        size = 2.0 * (atom->radius[i] < atom->radius[j] ? atom->radius[i] : atom->radius[j]);
+        allowance = poly_initial_overlap_allowance(&pair->material_of(atom->type[i], atom->type[j]));
+      }
     }
     double fraction = size > 0.0 ? records[r].depth / size : 0.0;
     counts[1] += 1.0;
-    if (fraction > kInitialOverlapFraction) counts[0] += 1.0;
+    if (fraction > allowance) counts[0] += 1.0;
     if (fraction > deepest[0]) {
       deepest[0] = fraction;
       deepest[1] = records[r].depth;
@@ -259,7 +267,7 @@ void FixParticletemplatePolyhedron::warn_initial_overlaps()
   char message[512];
   snprintf(message, sizeof message,
            "%.0f of %.0f overlapping particle pairs at the start of this run overlap deeper than %g%% of the "
-           "smaller particle's bounding diameter; the deepest by %g (%.3g%% of it). They will be pushed apart "
+           "smaller particle's bounding diameter (or than cohesion holds them); the deepest by %g (%.3g%% of it). They will be pushed apart "
            "violently: check create_polyhedron positions, insertion with overlapcheck yes, or the data file",
            total[0], total[1], 100.0 * kInitialOverlapFraction, depth, 100.0 * worst.value);
   error->warning(FLERR, message);

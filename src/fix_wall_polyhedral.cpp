@@ -425,7 +425,8 @@ void FixWallPolyhedral::setup(int)
 }
 
 // Particles created or inserted into a wall are pushed out violently; say so at set-up, as the templates do
-// for particle pairs (fix particletemplate/polyhedron), with the same 1 % of the bounding diameter.
+// for particle pairs (fix particletemplate/polyhedron), with the same 1 % of the bounding diameter (more where
+// cohesion holds contacts deeper: poly_initial_overlap_allowance).
 void FixWallPolyhedral::warn_initial_overlaps()
 {
   double total[2], deepest = 0.0;
@@ -435,7 +436,7 @@ void FixWallPolyhedral::warn_initial_overlaps()
   char message[512];
   snprintf(message, sizeof message,
            "Fix wall/polyhedral %s: %.0f of %.0f particle-wall contacts at the start of this run are deeper than 1%% "
-           "of the particle's bounding diameter, the deepest %.3g%% of it. They will be pushed out violently: check "
+           "of the particle's bounding diameter (or than cohesion holds them), the deepest %.3g%% of it. They will be pushed out violently: check "
            "create_polyhedron positions, insertion regions, or the data file", id, total[1], total[0],
            100.0 * deepest);
   error->warning(FLERR, message);
@@ -470,10 +471,11 @@ void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, b
                                       double *pressure_shift)
 {
   double **x = atom->x, **v = atom->v, **omega = atom->omega, **f = atom->f, **torque = atom->torque;
+  const poly_material_pair *material = &materials[atom->type[i] * (atom->ntypes + 1) + type_of_wall];
   if (!advance_history) {  // set-up: tally for warn_initial_overlaps
     double fraction = depth / (2.0 * atom->radius[i]);
     setup_overlaps[0] += 1.0;
-    if (fraction > 0.01) setup_overlaps[1] += 1.0;
+    if (fraction > poly_initial_overlap_allowance(material)) setup_overlaps[1] += 1.0;
     if (fraction > setup_overlaps[2]) setup_overlaps[2] = fraction;
   }
   poly_contact_input input;
@@ -491,8 +493,7 @@ void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, b
     law_history = scratch;
   }
   poly_contact_output out;
-  poly_contact_evaluate(&input, &materials[atom->type[i] * (atom->ntypes + 1) + type_of_wall], use_tangential,
-                        use_damping, law_history, &out);
+  poly_contact_evaluate(&input, material, use_tangential, use_damping, law_history, &out);
   for (int k = 0; k < 3; k++) {
     f[i][k] -= out.force_j[k];
     torque[i][k] += out.torque_i[k];

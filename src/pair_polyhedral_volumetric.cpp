@@ -273,6 +273,28 @@ int PairPolyhedralVolumetric::cohesion_keyword(LAMMPS *lmp, const char *caller, 
   return 0;
 }
 
+// Deep cohesive overlaps are outside the volumetric law's shallow-overlap regime (doc/pair_polyhedral_volumetric.md,
+// "Cohesion"): an ERROR where particles would half merge, a WARNING (once per value) where faces sink past 5 %.
+void PairPolyhedralVolumetric::check_cohesion_depth(LAMMPS *lmp, const char *caller, int i, int j, double k,
+                                                    double youngs_effective)
+{
+  const double ratio = poly_cohesion_face_depth_ratio(k, youngs_effective);
+  if (ratio <= kCohesionDepthWarning) return;
+  char message[640];
+  snprintf(message, sizeof message,
+           "%s: cohesionEnergyDensity %g for types %d %d against E* = %g: faces held by cohesion alone sink "
+           "%.0f %% of their size into each other (3 sqrt(pi)/4 k/E*), and blunt vertices are drawn in until faces "
+           "meet; %s",
+           caller, k, i, j, youngs_effective, 100.0 * ratio,
+           ratio > kCohesionDepthError ? "keep k/E* below 0.15 (lower cohesionEnergyDensity or raise youngsModulus)"
+                                       : "the volumetric law is meant for shallow overlaps");
+  if (ratio > kCohesionDepthError) lmp->error->all(FLERR, message);
+  static std::map<std::pair<double, double>, bool> warned;
+  if (warned[std::make_pair(k, youngs_effective)]) return;
+  warned[std::make_pair(k, youngs_effective)] = true;
+  if (lmp->comm->me == 0) lmp->error->warning(FLERR, message);
+}
+
 void PairPolyhedralVolumetric::material_table(LAMMPS *lmp, const char *caller, bool with_restitution,
                                               bool with_friction, bool with_cohesion,
                                               std::vector<poly_material_pair> &table)
@@ -314,6 +336,7 @@ void PairPolyhedralVolumetric::material_table(LAMMPS *lmp, const char *caller, b
         double k = cohesion_density->compute_array(i - 1, j - 1);
         if (!(k >= 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: cohesionEnergyDensity must be >= 0");
         table[i * (n + 1) + j].cohesion = k;
+        check_cohesion_depth(lmp, caller, i, j, k, table[i * (n + 1) + j].youngs_effective);
       }
     }
   }

@@ -63,6 +63,11 @@ class PairPolyhedralVolumetric : public Pair {
   // The effective materials of all type pairs (fix wall/polyhedral builds its own with its switches).
   static void material_table(class LAMMPS *lmp, const char *caller, bool with_restitution, bool with_friction,
                              bool with_cohesion, std::vector<poly_material_pair> &table);
+  // Cohesion that would sink faces deeper than 20 % of their size (k/E* > 0.15) is an ERROR; beyond 5 % a WARNING.
+  static void check_cohesion_depth(class LAMMPS *lmp, const char *caller, int i, int j, double k,
+                                   double youngs_effective);
+  static constexpr double kCohesionDepthWarning = 0.05, kCohesionDepthError = 0.2;
+  const poly_material_pair &material_of(int itype, int jtype) const { return material(itype, jtype); }
   // `cohesion sjkr|off` of a pair_style or fix wall line: 1 or 0 (other values: the ERROR of liggghts_model_keyword).
   static int cohesion_keyword(class LAMMPS *lmp, const char *caller, const char *value);
   bool cohesion_on() const { return cohesion; }

@@ -235,6 +235,23 @@ POLY_INLINE void poly_material_pair_make(double youngs_i, double poisson_i, doub
   pair->cohesion = 0.0;
 }
 
+/* Cohesion sjkr's own overlap: two flat faces held together by cohesion alone (no load) sink until the law's
+ * 4/(3 sqrt(pi)) E* L delta (V = L^2 delta) equals k L^2, i.e. delta / L = 3 sqrt(pi)/4 k/E*. For a vertex
+ * pressed into a face, cohesion k A and the elastic force both grow as delta^2, so a blunt enough vertex is
+ * drawn in until faces meet: this depth, not the vertex's, is where a strongly cohesive contact ends. */
+POLY_INLINE double poly_cohesion_face_depth_ratio(double cohesion, double youngs_effective)
+{
+  return 0.75 * sqrt(POLY_PI) * cohesion / youngs_effective;
+}
+
+/* How deep, as a fraction of a particle's size, a contact may be at the start of a run before the package warns
+ * that it will be pushed apart violently: 1 %, or the depth at which cohesion alone holds two faces. */
+POLY_INLINE double poly_initial_overlap_allowance(const poly_material_pair *material)
+{
+  const double cohesive = poly_cohesion_face_depth_ratio(material->cohesion, material->youngs_effective);
+  return cohesive > 0.01 ? cohesive : 0.01;
+}
+
 /* The time-step estimates LIGGGHTS makes for spheres (fix check/timestep/gran): the Rayleigh time of a
  * particle of radius r, pi r sqrt(rho / G) / (0.1631 nu + 0.8766), G = E / (2 (1 + nu)), and the Hertz
  * contact time 2.87 (m^2 / (r E*^2 v))^(1/5) of mass m, radius r, effective modulus E* at approach speed v. */
