@@ -662,9 +662,10 @@ void PairPolyhedralVolumetric::read_restart(FILE *fp, const int major, const int
     }
 }
 
+// cohesion rides in the rocking flag's second bit, so files written before it existed read as cohesion off.
 void PairPolyhedralVolumetric::write_restart_settings(FILE *fp)
 {
-  int flags[4] = {tangential_history, damping, precision, rocking_damping};
+  int flags[4] = {tangential_history, damping, precision, (rocking_damping ? 1 : 0) | (cohesion ? 2 : 0)};
   fwrite(flags, sizeof(int), 4, fp);
 }
 
@@ -676,7 +677,8 @@ void PairPolyhedralVolumetric::read_restart_settings(FILE *fp, const int, const 
   tangential_history = flags[0];
   damping = flags[1];
   precision = flags[2];
-  rocking_damping = flags[3];
+  rocking_damping = (flags[3] & 1) != 0;
+  cohesion = (flags[3] & 2) != 0;
 }
 
 double PairPolyhedralVolumetric::memory_usage()

@@ -263,3 +263,34 @@ def test_cohesion_deeper_than_the_law_allows_is_an_error(run_deck, tmp_path):
     assert result.returncode != 0
     assert any("sink 75 % of their size" in line and "keep k/E* below 0.15" in line
                for line in result.error_lines()), result.output[-2000:]
+
+
+def test_cohesion_survives_a_restart_file(run_deck, tmp_path):
+    """The cube of the face test at rest on its cohesive equilibrium depth: written to a restart file and read
+    back without a pair_style line, the pair style still has cohesion sjkr (a cube resting on a second cube, the
+    pair's contact carrying the cohesion): the force on the upper cube stays the cohesive balance, zero, and
+    it stays at its depth. With cohesion lost it would be pushed out."""
+    depth = 3.0 * math.sqrt(math.pi) * CUBE_K * CUBE_L / (4.0 * E_STAR)
+    setup = ("fix m1 all property/global youngsModulus peratomtype 1e7 1e7\n"
+             "fix m2 all property/global poissonsRatio peratomtype 0.25 0.25\n"
+             "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
+             "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n"
+             f"fix m5 all property/global cohesionEnergyDensity peratomtypepair 2 {CUBE_K} {CUBE_K} {CUBE_K} "
+             f"{CUBE_K}\nfix cube all particletemplate/polyhedron 15485863 atom_type 1 density constant 2500 "
+             f"file ${{SHAPES}}/cube.stl scale {CUBE_L}\n")
+    probe = ("group upper id 2\nfix integrate upper nve/polyhedron\nvariable z equal z[2]\n"
+             "variable fz equal fcm(upper,z)\n"
+             "thermo_style custom step v_z v_fz\nthermo_modify format float %.17g\ntimestep 1e-6\n")
+    first = run_deck("atom_style polyhedron\n" + HEAD.format(sort=" sort 0 0") + setup +
+                     "pair_style polyhedral/volumetric cohesion sjkr\npair_coeff * *\n"
+                     f"create_polyhedron cube 0.5 0.5 0.5\ncreate_polyhedron cube 0.5 0.5 {0.5 + CUBE_L - depth!r}\n"
+                     + probe + "run 0\nwrite_restart cohesive.restart\n", workdir=tmp_path / "first")
+    assert first.returncode == 0, first.output[-3000:]
+    second = run_deck("atom_modify map array sort 0 0\nread_restart ../first/cohesive.restart\nnewton off\n"
+                      "communicate single vel yes\n" + setup + probe + "run 100\n", workdir=tmp_path / "second")
+    assert second.returncode == 0, second.output[-3000:]
+    for result in (first, second):
+        table = result.thermo("v_z", "v_fz")
+        weight_free_force = table["v_fz"][-1]
+        assert abs(weight_free_force) < 1e-6 * CUBE_K * CUBE_L ** 2, (table, result.workdir)
+        assert table["v_z"][-1] == pytest.approx(0.5 + CUBE_L - depth, abs=1e-12)
