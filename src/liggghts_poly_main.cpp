@@ -23,6 +23,17 @@ static void print_polyhedral_styles(void)
   fflush(stdout);
 }
 
+// `-screen none` leaves LIGGGHTS' screen pointer NULL, and some of its own code prints to it unguarded (fix
+// insert/pack's region set-up, Region::reset_random, crashes on the first run): the same silence through
+// /dev/null never crashes.
+static void silence_screen_safely(int argc, char **argv)
+{
+  static char null_device[] = "/dev/null";
+  for (int a = 1; a + 1 < argc; a++)
+    if ((strcmp(argv[a], "-screen") == 0 || strcmp(argv[a], "-sc") == 0) && strcmp(argv[a + 1], "none") == 0)
+      argv[a + 1] = null_device;
+}
+
 int main(int argc, char **argv)
 {
   // Same signal behaviour as `liggghts`: SIGINT/SIGTERM ask for a clean stop,
@@ -50,6 +61,7 @@ int main(int argc, char **argv)
       break;
     }
 
+  silence_screen_safely(argc, argv);
   LAMMPS *lammps = new LAMMPS(argc, argv, MPI_COMM_WORLD);
   lammps->input->file();
   delete lammps;

@@ -246,3 +246,27 @@ def test_insert_stream_checks_exact_overlap(run_deck, tmp_path):
     result = run_deck(column("cube", insertion), workdir=tmp_path)
     assert "inserted 100 particle templates" in result.output
     check_column(result, 100, all_in=False)
+
+
+def test_screen_none_with_insert_pack_in_a_cylinder(launcher, tmp_path):
+    """`-screen none` left LIGGGHTS' screen NULL, and fix insert/pack in a cylinder region writes to it unguarded
+    (Region::reset_random): a segmentation fault on the first run, Debian's own liggghts included. The launcher
+    sends the screen to /dev/null instead: the run completes and the log has it all."""
+    import os
+    import subprocess
+
+    from conftest import MPI_ENV, SHAPES
+    deck = (box(-0.1, 0.1, 0, 0.3, ntypes=2) + decks.template("t1", "rock_40.obj", scale=0.01) +
+            "fix pdd all particledistribution/discrete 15485867 1 t1 1.0\n"
+            "pair_style polyhedral/volumetric\npair_coeff * *\n"
+            "region column cylinder z 0 0 0.05 0.01 0.25\n"
+            "fix ins all insert/pack seed 86028121 distributiontemplate pdd insert_every once overlapcheck yes "
+            "orientation random all_in yes particles_in_region 20 region column\n"
+            "fix integrate all nve/polyhedron\ntimestep 1e-5\nrun 10\n")
+    (tmp_path / "in.deck").write_text(deck)
+    result = subprocess.run([str(launcher), "-in", "in.deck", "-log", "log.deck", "-screen", "none",
+                             "-var", "SHAPES", str(SHAPES)], cwd=tmp_path, capture_output=True, text=True,
+                            env=dict(os.environ, **MPI_ENV), timeout=120)
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    log = (tmp_path / "log.deck").read_text()
+    assert "inserted 20 particle templates" in log and "Loop time of" in log
