@@ -71,9 +71,12 @@ $(BUILD)/obj/%.o: src/%.cpp $(wildcard src/*.h) Makefile Makefile.package
 ifeq ($(VTK_INCLUDE),)
 $(BUILD)/obj/dump_polyhedron_vtk.o: vtk_missing
 endif
+ifneq ($(words $(wildcard $(VTK_LIBS))),$(words $(VTK_LIBS)))
+$(LIBRARY): vtk_missing
+endif
 .PHONY: vtk_missing
 vtk_missing:
-	$(error VTK 9.1 headers not found (dump polyhedron/vtk needs them): run `bash tools/debian_deps.sh`, or set VTK_INCLUDE=)
+	$(error VTK 9.1 headers or libraries not found (dump polyhedron/vtk needs them; libraries: $(filter-out $(wildcard $(VTK_LIBS)),$(VTK_LIBS))): run `bash tools/debian_deps.sh`, or set VTK_INCLUDE= / VTK_LIBDIR=)
 
 # Only the VTK dump sees VTK's headers.
 $(BUILD)/obj/dump_polyhedron_vtk.o: src/dump_polyhedron_vtk.cpp $(wildcard src/*.h) Makefile Makefile.package

@@ -188,10 +188,9 @@ static vtkMultiProcessController *world_controller(MPI_Comm world)
 }
 
 template <class Writer>
-static void configure_writer(Writer *writer, bool binary_output, int compressor, bool small_ids)
+static void configure_writer(Writer *writer, bool binary_output, int compressor)
 {
   writer->SetHeaderTypeToUInt64();
-  if (small_ids) writer->SetIdTypeToInt32();
   if (!binary_output) {
     writer->SetDataModeToAscii();
     writer->SetCompressorTypeToNone();
@@ -281,16 +280,10 @@ void DumpPolyhedronVTK::write_polydata(const std::vector<double> &records, const
   cell_data->SetActiveScalars("id");
   cell_data->SetActiveVectors("v");
 
-  // Every rank's largest point index decides the id width, so all pieces of a snapshot agree.
-  long long local_points = num_points, max_points = 0;
-  if (pieces_per_rank) MPI_Allreduce(&local_points, &max_points, 1, MPI_LONG_LONG, MPI_MAX, world);
-  else max_points = local_points;
-  const bool small_ids = 3 * max_points < INT_MAX;
-
   int written = 0;
   if (pieces_per_rank) {
     vtkSmartPointer<vtkXMLPPolyDataWriter> writer = vtkSmartPointer<vtkXMLPPolyDataWriter>::New();
-    configure_writer(writer.GetPointer(), binary_output, compressor, small_ids);
+    configure_writer(writer.GetPointer(), binary_output, compressor);
     writer->SetController(world_controller(world));
     writer->SetNumberOfPieces(comm->nprocs);
     writer->SetStartPiece(comm->me);
@@ -300,7 +293,7 @@ void DumpPolyhedronVTK::write_polydata(const std::vector<double> &records, const
     written = writer->Write() && writer->GetErrorCode() == 0;
   } else {
     vtkSmartPointer<vtkXMLPolyDataWriter> writer = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-    configure_writer(writer.GetPointer(), binary_output, compressor, small_ids);
+    configure_writer(writer.GetPointer(), binary_output, compressor);
     writer->SetFileName(path.c_str());
     writer->SetInputData(surfaces);
     written = writer->Write() && writer->GetErrorCode() == 0;

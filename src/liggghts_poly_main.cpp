@@ -29,6 +29,8 @@ static void print_polyhedral_styles(void)
 static void silence_screen_safely(int argc, char **argv)
 {
   static char null_device[] = "/dev/null";
+  for (int a = 1; a < argc; a++)  /* with partitions LIGGGHTS opens <screen>.<N>: left as it is */
+    if (strcmp(argv[a], "-partition") == 0 || strcmp(argv[a], "-p") == 0) return;
   for (int a = 1; a + 1 < argc; a++)
     if ((strcmp(argv[a], "-screen") == 0 || strcmp(argv[a], "-sc") == 0) && strcmp(argv[a + 1], "none") == 0)
       argv[a + 1] = null_device;

@@ -40,8 +40,6 @@ def test_surfaces_are_template_vertices_rotated_and_translated(run_deck, tmp_pat
     # rock_70: 70 triangles, 37 vertices; cube: 12 triangles, 8 vertices.
     assert (points_count, cells) == (2 * 37 + 8, 2 * 70 + 12)
     assert points.shape == (points_count, 3)
-    assert len(arrays["connectivity"]) == 3 * cells
-    assert np.array_equal(arrays["offsets"], 3 * np.arange(1, cells + 1))
     assert arrays["connectivity"].max() == points_count - 1
     # Particle 1 sits at identity orientation, so its points are body-frame vertices + centre.
     body = points[:37] - np.array([0.5, 0.5, 0.5])
@@ -110,7 +108,7 @@ def test_encodings_and_pieces_hold_the_same_surfaces_and_fields(run_deck):
         for key in arrays:
             assert np.allclose(other[key], arrays[key], rtol=1e-14, atol=0), (name, key)
     sizes = {name: (work / f"{name}_{step}.vtp").stat().st_size for name in ("ascii", "raw", "zlib", "lz4")}
-    assert sizes["zlib"] < sizes["raw"] < sizes["ascii"], sizes
+    assert sizes["zlib"] < 0.5 * sizes["raw"] and sizes["zlib"] < 0.5 * sizes["ascii"], sizes
 
     # Force and contact count per particle, as dump custom and compute contact/polyhedron give them.
     columns, rows = decks.read_dump(work / "state.txt")

@@ -400,7 +400,7 @@ def test_gpu_cohesion_matches_cpu(run_deck, tmp_path):
 def test_dump_vtk_fields_from_the_gpu_style(run_deck, tmp_path):
     """dump polyhedron/vtk (.pvtp, a piece per rank; ASCII, read here without VTK, which GPU hosts may lack) with
     the GPU style on its fast path: the per-particle force and contact count it writes are the CPU style's
-    (forces to 1e-8 relative after 1000 steps of a falling packing, where the two styles' sums differ in order
+    (forces to 1e-6 relative after 1000 steps of a falling packing, where the two styles' sums differ in order
     only; counts equal)."""
     import xml.etree.ElementTree as ElementTree
 
@@ -423,4 +423,6 @@ def test_dump_vtk_fields_from_the_gpu_style(run_deck, tmp_path):
     force = {name: np.array([fields[name][i][0] for i in ids]) for name in fields}
     contacts = {name: np.array([fields[name][i][1] for i in ids]) for name in fields}
     assert np.array_equal(contacts["cpu"], contacts["gpu"]) and contacts["gpu"].sum() > 100
-    assert np.abs(force["gpu"] - force["cpu"]).max() <= 1e-8 * np.abs(force["cpu"]).max()
+    # 1e-6: the fields are passed through, so a bug is O(1); the trajectories themselves part by the order of
+    # sums over 1000 steps of a packing (within 1e-8 on an H100), which other GPUs and compilers may change.
+    assert np.abs(force["gpu"] - force["cpu"]).max() <= 1e-6 * np.abs(force["cpu"]).max()

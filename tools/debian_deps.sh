@@ -17,7 +17,7 @@ done
 if [ ${#missing[@]} -gt 0 ]; then
   echo "installing: ${missing[*]}"
   $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
 # VTK's headers, for dump polyhedron/vtk (it writes through the VTK 9 libraries LIGGGHTS already links).
@@ -26,12 +26,16 @@ fi
 vtk_unpacked="$root/build-deps/libvtk9-dev"
 if [ ! -f /usr/include/vtk-9.1/vtkXMLPPolyDataWriter.h ] &&
    [ ! -f "$vtk_unpacked/usr/include/vtk-9.1/vtkXMLPPolyDataWriter.h" ]; then
-  version="$(dpkg-query -W -f='${Version}' libvtk9.1)"
+  version="$(dpkg-query -W -f='${Version}' libvtk9.1 2>/dev/null)" ||
+    { echo "tools/debian_deps.sh: libvtk9.1 (VTK 9.1, which liggghts depends on) is not installed" >&2; exit 1; }
   download="$(mktemp -d)"
   chmod 777 "$download"    # apt-get download writes as the _apt user where it can
   echo "unpacking the headers of libvtk9-dev $version under build-deps/"
-  (cd "$download" && apt-get download -qq "libvtk9-dev=$version" 2>/dev/null) ||
-    { $sudo apt-get update -qq && (cd "$download" && apt-get download -qq "libvtk9-dev=$version"); }
+  # The installed libraries' own version; else (the mirror has moved on to another Debian revision of VTK 9.1,
+  # whose headers are the same) the one apt offers.
+  fetch() { (cd "$download" && apt-get download -qq "$@" 2>/dev/null); }
+  fetch "libvtk9-dev=$version" || { $sudo apt-get update -qq && fetch "libvtk9-dev=$version"; } || fetch libvtk9-dev ||
+    { echo "tools/debian_deps.sh: could not download libvtk9-dev (VTK's headers for dump polyhedron/vtk)" >&2; exit 1; }
   rm -rf "$vtk_unpacked" && mkdir -p "$vtk_unpacked"
   dpkg-deb -x "$download"/libvtk9-dev_*.deb "$vtk_unpacked"
   rm -rf "$download"

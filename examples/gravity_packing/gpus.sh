@@ -6,9 +6,9 @@
 # Stages (STAGE, default "prepare agree scale"):
 #   prepare  the settled 10115-particle cell (bed.sh's first stage, -var wall 1) tiled T x T: T = 10 (1,011,500
 #            particles), T = TW (default the integer nearest 10 sqrt(G): about G times as many) and T = 3 (91,035)
-#   agree    per precision: the 91,035 bed, STEPS_AGREE (100) steps with G R ranks on one GPU and on G GPUs; the
-#            final positions compared; the G-GPU run writes a restart which a one-GPU run reads back
-#            (positions at that step compared, then 10 more steps)
+#   agree    per precision: the 91,035 bed, STEPS_AGREE (100, a multiple of 10) steps with G R ranks on one GPU
+#            and on G GPUs; the final positions compared; the G-GPU run writes a restart which a one-GPU run
+#            reads back and runs 10 steps on, compared with the G GPUs running those 10 steps unbroken
 #   scale    per precision: 10^6 on one GPU (R ranks), about G x 10^6 on G GPUs (G R ranks), 10^6 on G GPUs (G R
 #            ranks), STEPS (500) steps each: ms per step; weak scaling t(1 GPU, 10^6) / t(G GPUs, G x 10^6)
 #            (per particle), strong scaling t(1 GPU) / (G t(G GPUs)) at 10^6
@@ -64,6 +64,7 @@ if [[ " $STAGE " == *" prepare "* ]]; then
 fi
 
 if [[ " $STAGE " == *" agree "* ]]; then
+  [ $((STEPS_AGREE % 10)) -eq 0 ] || { echo "gpus.sh: STEPS_AGREE must be a multiple of 10" >&2; exit 2; }
   n=$((9 * CELL)); ranks=$((G * R))
   for precision in $PRECISIONS; do
     common=(-var N "$n" -var precision "$precision" -var steps "$STEPS_AGREE" -var M "$STEPS_AGREE")
@@ -75,6 +76,9 @@ if [[ " $STAGE " == *" agree "* ]]; then
     back=$(run 0 "$ranks" "post/log.gpus_restart_1gpu_$precision" -var N "$n" -var precision "$precision" \
            -var resume 1 -var restartfile "post/gpus_agree_$precision.restart" -var steps 10 -var M 10 \
            -var finalname "post/gpus_restart_1gpu_$precision.dump")
+    unbroken=$(run "$all_gpus" "$ranks" "post/log.gpus_unbroken_${G}gpu_$precision" -var N "$n" \
+               -var precision "$precision" -var steps $((STEPS_AGREE + 10)) -var M 10 \
+               -var finalname "post/gpus_unbroken_${G}gpu_$precision.dump")
     "$PYTHON" - "$precision" "$G" "$one" "$many" "$back" >> "$report" <<'EOF'
 import sys
 precision, gpus, one_ms, many_ms, back_ms = sys.argv[1:]
@@ -98,11 +102,13 @@ def worst(a, b):
 one = snapshots(f"post/gpus_agree_1gpu_{precision}.dump")
 many = snapshots(f"post/gpus_agree_{gpus}gpu_{precision}.dump")
 back = snapshots(f"post/gpus_restart_1gpu_{precision}.dump")
-last = max(many)
+unbroken = snapshots(f"post/gpus_unbroken_{gpus}gpu_{precision}.dump")
+last, end = max(many), max(back)
 print(f"- agree, {precision}: {len(many[last])} particles, step {last}: largest position difference 1 GPU vs "
       f"{gpus} GPUs {worst(one[max(one)], many[last]):.3g} m (particle size 0.02 m); restart written on {gpus} "
-      f"GPUs read on 1 GPU: difference at step {last} {worst(back[last], many[last]):.3g} m, then {max(back) - last}"
-      f" steps ({one_ms} / {many_ms} / {back_ms} ms per step)")
+      f"GPUs at step {last}, read on 1 GPU: at step {last} {worst(back[last], many[last]):.3g} m, at step {end} "
+      f"against {gpus} GPUs unbroken {worst(back[end], unbroken[end]):.3g} m ({one_ms} / {many_ms} / {back_ms} ms "
+      f"per step)")
 EOF
     tail -1 "$report"
   done
@@ -117,7 +123,7 @@ if [[ " $STAGE " == *" scale "* ]]; then
     ts=$(run "$all_gpus" $((G * R)) "post/log.gpus_N${n1}_${G}gpu_np$((G * R))_$precision" -var N "$n1" "${common[@]}")
     awk -v p="$precision" -v g="$G" -v r="$R" -v n1="$n1" -v nw="$nw" -v t1="$t1" -v tw="$tw" -v ts="$ts" 'BEGIN {
       printf "| %s | 1 GPU, %d ranks, %d particles | %.2f ms |\n", p, r, n1, t1
-      printf "| %s | %d GPUs, %d ranks, %d particles | %.2f ms | weak scaling (per particle) %.1f %% |\n", p, g, g * r, nw, tw, 100 * (t1 / n1) / (tw / nw)
+      printf "| %s | %d GPUs, %d ranks, %d particles | %.2f ms | weak scaling (per GPU'"'"'s particles) %.1f %% |\n", p, g, g * r, nw, tw, 100 * (t1 / n1) / (g * tw / nw)
       printf "| %s | %d GPUs, %d ranks, %d particles | %.2f ms | strong scaling %.1f %% |\n", p, g, g * r, n1, ts, 100 * t1 / (g * ts)
     }' | tee -a "$report"
   done
