@@ -63,6 +63,7 @@ struct State {
   DeviceArray<int> large;           // the pairs of [3]
   poly_gpu_options options;         // the kernel choices (poly_gpu_environment)
   bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
+  bool any_clip;                    // some shape has faces for the clipping path (poly_clip.h)
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
   DeviceArray<PairGeometry> results;
@@ -256,6 +257,46 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
               num_types, settings, contact, history, slot, pair_force, results, counters);
 }
 
+// One thread per pair of `list` whose shapes both have clip faces, in double: the clipping path (poly_clip.h), the
+// host's own for such pairs, with a stack of a few KiB instead of the reference path's workspace. Pairs it
+// does not take (another shape, flush faces, more corners than its buffer) go to `handed_back` (counters[2])
+// for contact_kernel.
+__global__ void __launch_bounds__(kThreads)
+    clip_contact_kernel(DeviceShapes shapes, const int *__restrict__ list, int count, const int *__restrict__ pair_i,
+                        const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
+                        const poly_gpu_motion *__restrict__ motion, const poly_material_pair *__restrict__ materials,
+                        int num_types, poly_gpu_settings settings, int *__restrict__ contact,
+                        double *__restrict__ history, const int *__restrict__ slot,
+                        PairForce *__restrict__ pair_force, PairGeometry *__restrict__ results,
+                        int *__restrict__ counters, int *__restrict__ handed_back)
+{
+  int local = blockIdx.x * blockDim.x + threadIdx.x;
+  if (local >= count) return;
+  int p = list[local];
+  int i = pair_i[p], j = pair_j[p];
+  const poly_gpu_particle &body_i = particles[i], &body_j = particles[j];
+  const poly_gpu_motion &state_i = motion[i], &state_j = motion[j];
+  const poly_clip_faces faces_i = shapes.clip[body_i.shape], faces_j = shapes.clip[body_j.shape];
+  double rotation_i[9], rotation[9], translation[3];
+  poly_overlap_relative_pose(state_i.position, state_i.quaternion, state_j.position, state_j.quaternion, rotation_i,
+                             rotation, translation);
+  poly_clip_result clip;
+  if (faces_i.num_faces == 0 || faces_j.num_faces == 0 ||
+      !poly_clip_overlap(&faces_i, &faces_j, rotation, translation,
+                         shapes.radius[body_i.shape] + shapes.radius[body_j.shape], settings.rocking, &clip)) {
+    handed_back[atomicAdd(counters + 2, 1)] = p;
+    return;
+  }
+  poly_overlap_result geometry;
+  geometry.volume = clip.volume;
+  geometry.depth = clip.depth;
+  geometry.area = clip.area;
+  geometry.projected_area = clip.projected_area;
+  for (int e = 0; e < 6; e++) geometry.second_moment[e] = clip.second_moment[e];
+  finish_pair(p, body_i, body_j, state_i, state_j, rotation_i, geometry, clip.centroid, clip.normal, materials,
+              num_types, settings, contact, history, slot, pair_force, results, counters);
+}
+
 // One warp per pair of `list` (poly_gpu_warp_impl.cuh), each warp with its
 // block of limits.bytes of shared memory; pairs it cannot finish, and pairs of
 // shapes beyond the limits, go to `handed_back` (counted in counters[2]) for
@@ -334,6 +375,8 @@ void free_shapes(DeviceShapes &s)
   cudaFree(s.offsets); cudaFree(s.counts); cudaFree(s.radius);
   cudaFree(s.vertices_d); cudaFree(s.normals_d); cudaFree(s.vertices_f); cudaFree(s.normals_f);
   cudaFree(s.triangles); cudaFree(s.edges); cudaFree(s.edge_triangles);
+  cudaFree(s.clip); cudaFree(s.clip_planes); cudaFree(s.clip_loop_start); cudaFree(s.clip_loop);
+  cudaFree(s.clip_triangle);
   memset(&s, 0, sizeof s);
 }
 
@@ -406,7 +449,7 @@ template <int Precision> WarpLimits warp_limits_of(int min_vertices, int min_tri
 }
 
 // Which kernel takes the pairs (POLY_GPU_PAIR_KERNEL=thread or warp forces one).
-// Measured on an H100 (doc/gpu.md, "Two contact kernels"): the thread kernel
+// Measured on an H100 (doc/gpu.md, "Contact kernels"): the thread kernel
 // is the faster one while its workspace fits in local memory, and for convex
 // shapes, whose pairs give every thread of a warp about the same work; the
 // warp kernel when the workspaces must go to global memory (large shapes, or
@@ -452,6 +495,23 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
                "cudaMemset", message, size))
       return false;
     device_results = state.results.data;
+  }
+  if (limits.bytes == 0 && Precision == POLY_PRECISION_DOUBLE && state.any_clip && num_touching > 0 &&
+      !state.options.pair_kernel) {
+    // Pairs of shapes with clip faces take the clipping path; the rest, and what it hands back, the one-thread
+    // kernel.
+    if (!ensure(state.handed_back, num_touching, message, size)) return false;
+    clip_contact_kernel<<<(num_touching + kThreads - 1) / kThreads, kThreads>>>(
+        s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
+        state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+        state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_back.data);
+    int num_handed = 0;
+    if (!check(cudaGetLastError(), "clip kernel launch", message, size) ||
+        !check(cudaMemcpy(&num_handed, state.counters.data + 2, sizeof(int), cudaMemcpyDeviceToHost), "clip kernel",
+               message, size))
+      return false;
+    state.timing.handed_back += num_handed;
+    return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size);
   }
   if (limits.bytes == 0)
     return thread_per_pair<Precision>(settings, state.touching.data, num_touching, device_results, message, size);
@@ -560,6 +620,46 @@ extern "C" int poly_gpu_environment(poly_gpu_options *options, char *message, si
   return 0;
 }
 
+// The shapes' faces for the clipping path (poly_clip.h), and per shape a poly_clip_faces of device pointers
+// into them and into the uploaded vertices; shapes without clip faces get num_faces 0.
+static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, const std::vector<int> &offsets,
+                       char *message, size_t message_size)
+{
+  DeviceShapes &s = state.shapes;
+  std::vector<double> planes;
+  std::vector<int> loop_start, loop, triangle, first_face, first_start, first_corner;
+  state.any_clip = false;
+  for (int i = 0; i < num_shapes; i++) {
+    const poly_shape *shape = shapes[i];
+    first_face.push_back((int)triangle.size());
+    first_start.push_back((int)loop_start.size());
+    first_corner.push_back((int)loop.size());
+    if (shape->num_clip_faces == 0) continue;
+    state.any_clip = true;
+    planes.insert(planes.end(), shape->clip_planes, shape->clip_planes + 4 * shape->num_clip_faces);
+    loop_start.insert(loop_start.end(), shape->clip_loop_start, shape->clip_loop_start + shape->num_clip_faces + 1);
+    loop.insert(loop.end(), shape->clip_loop, shape->clip_loop + shape->clip_loop_start[shape->num_clip_faces]);
+    triangle.insert(triangle.end(), shape->clip_face_triangle, shape->clip_face_triangle + shape->num_clip_faces);
+  }
+  if (!upload_raw(&s.clip_planes, planes, message, message_size) ||
+      !upload_raw(&s.clip_loop_start, loop_start, message, message_size) ||
+      !upload_raw(&s.clip_loop, loop, message, message_size) ||
+      !upload_raw(&s.clip_triangle, triangle, message, message_size))
+    return false;
+  std::vector<poly_clip_faces> faces(num_shapes);
+  for (int i = 0; i < num_shapes; i++) {
+    poly_clip_faces &f = faces[i];
+    f.num_faces = shapes[i]->num_clip_faces;
+    f.num_vertices = shapes[i]->num_vertices;
+    f.vertices = s.vertices_d + 3 * offsets[3 * i];
+    f.planes = s.clip_planes + 4 * first_face[i];
+    f.loop_start = s.clip_loop_start + first_start[i];
+    f.loop = s.clip_loop + first_corner[i];
+    f.triangle = s.clip_triangle + first_face[i];
+  }
+  return upload_raw(&s.clip, faces, message, message_size);
+}
+
 extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const *shapes, char *message,
                              size_t message_size)
 {
@@ -616,7 +716,8 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
             upload_raw(&s.triangles, triangles, message, message_size) &&
             upload_raw(&s.edges, edges, message, message_size) &&
             upload_raw(&s.edge_triangles, edge_triangles, message, message_size) &&
-            ensure(state.counters, 5, message, message_size);
+            ensure(state.counters, 5, message, message_size) &&
+            upload_clip_faces(num_shapes, shapes, offsets, message, message_size);
   if (!ok) return -1;
   state.ready = true;
   return 0;

@@ -38,6 +38,9 @@ struct DeviceShapes {
   double *vertices_d, *normals_d;
   float *vertices_f, *normals_f;
   int *triangles, *edges, *edge_triangles;
+  poly_clip_faces *clip;      // per shape its faces for the clipping path (num_faces 0: none), device pointers
+  double *clip_planes;
+  int *clip_loop_start, *clip_loop, *clip_triangle;
 };
 
 template <typename T> struct DeviceArray {
@@ -127,6 +130,7 @@ __device__ View shape_view(const DeviceShapes &s, int shape, const Real *vertice
   v.num_ridges = 0;
   v.support = NULL;
   v.num_support = 0;
+  v.clip.num_faces = 0;  // the clipping path is host-only for now
   v.bounding_radius = (Real)s.radius[shape];
   return v;
 }

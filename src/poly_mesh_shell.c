@@ -609,6 +609,7 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
   prism->view.edges = prism->edges;
   prism->view.edge_triangles = prism->edge_triangles;
   prism->view.bounding_radius = sqrt(radius2);
+  prism->view.clip.num_faces = 0;  /* prisms take the convex or general path (their nodes are read back) */
   prism_faces(prism);
   return 0;
 }

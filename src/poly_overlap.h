@@ -50,6 +50,7 @@
 
 #include <stddef.h>
 
+#include "poly_clip.h"
 #include "poly_rigid.h"
 #include "poly_shape.h"
 
@@ -96,6 +97,7 @@ typedef struct poly_overlap_result {
     int num_ridges;                                                                                  \
     const int *support;       /* triangles whose planes support the shape, or NULL (none known) */  \
     int num_support;                                                                                 \
+    poly_clip_faces clip;     /* double views of convex shapes of few faces: poly_clip.h; else 0 faces */ \
   } poly_shape_view##SUFFIX;                                                                        \
   /* Scratch memory for one pair at a time, sized once for the largest shapes. */                   \
   typedef struct poly_overlap_workspace##SUFFIX {                                                   \
@@ -111,6 +113,8 @@ typedef struct poly_overlap_result {
     int *runs;                         /* per edge tested: edge, first record, count */              \
     int *chord_buckets, *chord_ends;   /* per triangle of A; per record end (triangle of B, record) */ \
     int use_convex;                    /* 1 (default): convex shapes take the convex path (poly_overlap_convex_impl.h), with the filter on */ \
+    int use_clip;                      /* 1 (default): pairs of shapes with clip faces take poly_clip.h (double entry only) */ \
+    int clip_fallbacks;                /* pairs with clip faces it handed to the other paths (flush faces) */ \
     int capacity_sides, convex_fallbacks; /* convex path: side table size; passes it left to the general path */ \
     REAL *sides;                       /* convex path: per vertex used, its plane_side for each face */ \
     int *faces_a, *faces_b, *face_column_a, *face_column_b; /* its faces, and their columns per face */ \

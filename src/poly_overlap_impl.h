@@ -195,6 +195,8 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->capacity_sides = (int)nsides;
   ws->convex_fallbacks = 0;
   ws->use_convex = POLY_OVERLAP_RECORDS;
+  ws->use_clip = 1;
+  ws->clip_fallbacks = 0;
   ws->capacity_grid = (int)nentries;
   ws->use_filter = 1;
   ws->want_second_moment = 0;

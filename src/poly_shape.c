@@ -986,5 +986,9 @@ void poly_shape_free(poly_shape *shape)
   free(shape->face_of);
   free(shape->ridges);
   free(shape->support);
+  free(shape->clip_planes);
+  free(shape->clip_loop_start);
+  free(shape->clip_loop);
+  free(shape->clip_face_triangle);
   memset(shape, 0, sizeof *shape);
 }

@@ -86,6 +86,14 @@ typedef struct poly_shape {
    * for a convex shape). */
   int *support;
   int num_support;
+  /* Convex shapes of at most POLY_CLIP_MAX_FACES faces (poly_clip.h; NULL, 0 otherwise): per face its plane
+   * (unit outward normal and offset, 4 each) and its corners in order, counter-clockwise seen from outside
+   * (clip_loop[clip_loop_start[f] ...]). */
+  double *clip_planes;
+  int *clip_loop_start;
+  int *clip_loop;
+  int *clip_face_triangle;  /* per face its lowest triangle */
+  int num_clip_faces;
 } poly_shape;
 
 /* Reads a mesh; the format is chosen by extension (.stl, .obj, .off, any case).

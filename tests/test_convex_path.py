@@ -52,3 +52,31 @@ def test_non_convex_shapes_keep_the_general_path(driver, shape):  # noqa: F811
     values, _ = run(driver, shape, 20, "double", capacity="convex")
     assert values["convex"] == 0
     assert values["fallbacks"] == 0
+
+
+CLIP_TOLERANCE = {"volume": 1e-13, "centroid": 1e-13, "area": 1e-13, "depth": 1e-13, "second_moment": 1e-13,
+                  "normal_scaled": 1e-13}
+
+
+@pytest.mark.parametrize("shape", ["cube.stl", "box_1x2x3.off", "tetrahedron.obj"])
+def test_clipping_path_agrees_with_the_general_path(driver, shape):  # noqa: F811
+    """The clipping path (src/poly_clip.h: each body's face polygons clipped by the other's planes, the divergence
+    theorem over them), which double-precision pairs of convex shapes of at most 16 faces take, against the general
+    records path on the same poses as above. Same tolerances, relative to the size and weighted as above, except
+    the normal: computed from polygons of extent L whose corners are known to rounding of the size, it is good to
+    about 1e-16 size / L, so its difference is weighed by L / size (sqrt of the area); measured: <= 3.2e-15, and
+    unweighted 5e-12 on overlaps of 1e-8 of the size squared. Flush faces (and a wider band around them: any vertex
+    within 1e-9 of the size of a plane of the other body) go to the general path."""
+    values, log = run(driver, shape, 2000, "double", capacity="clip")
+    assert values["clip_faces"] >= 4 and values["overlapping"] >= 800
+    for quantity, limit in CLIP_TOLERANCE.items():
+        assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
+    assert values["flag_differences"] == 0 and values["wrongly_filtered"] == 0, log
+    assert values["smoothed"] <= values["fallbacks"] <= 0.25 * values["poses"]
+
+
+def test_shapes_beyond_the_clipping_path_keep_the_others(driver):  # noqa: F811
+    """icosphere_80 (80 faces) is convex but has more faces than the clipping path takes; rock_40 is not convex."""
+    for shape in ("icosphere_80.off", "rock_40.obj"):
+        values, _ = run(driver, shape, 10, "double", capacity="clip")
+        assert values["clip_faces"] == 0

@@ -59,7 +59,7 @@ start=$SECONDS
 # Kernels' pairs per second from a gpu_agreement bed line, or the FAIL line.
 rate() { sed -n 's/.*GPU \([0-9.e+]*\) pairs\/s in the kernels.*/\1/p; /FAIL/p'; }
 echo "One shape uploaded (a deck of one template): pairs/s in the kernels with the default choice of contact"
-echo "kernel (doc/gpu.md, \"Two contact kernels\"), and with each forced by POLY_GPU_PAIR_KERNEL"
+echo "kernel (doc/gpu.md, \"Contact kernels\"), and with each forced by POLY_GPU_PAIR_KERNEL"
 for precision in $precisions; do
   for shape in $shapes; do
     line="$("$agreement" "$root/examples/shapes" "$pairs" "$precision" bed "$shape" | grep "bed pairs\|FAIL")"

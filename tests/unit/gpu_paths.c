@@ -56,6 +56,7 @@ static void random_unit(double *v, int n)
     poly_overlap_workspace##GEOMETRY host;                                                                           \
     if (poly_overlap_workspace_create##GEOMETRY(&host, view->num_vertices, view->num_triangles)) return 1;          \
     host.use_convex = 0; /* the device has no convex path: the host's general path gives the device's bits */        \
+    host.use_clip = 0;   /* nor the clipping path in this kernel (clip_contact_kernel has it; test_gpu.py) */       \
     size_t local_bytes = POLY_GPU_LOCAL_WORKSPACE_REALS * sizeof(REAL);                                              \
     size_t needed = poly_overlap_workspace_layout##SUFFIX(NULL, NULL, view->num_vertices, view->num_triangles);     \
     *fits = needed <= local_bytes;                                                                                   \

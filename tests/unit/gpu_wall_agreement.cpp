@@ -234,8 +234,12 @@ int main(int argc, char **argv)
           float vertices[18], normals[24];
           for (int k = 0; k < 18; k++) vertices[k] = (float)prism.vertices[k];
           for (int k = 0; k < 24; k++) normals[k] = (float)prism.face_normals[k];
-          poly_shape_view_f prism_f = {6, 8, 12, vertices, normals, prism.triangles, prism.edges,
-                                       prism.edge_triangles, (float)prism.view.bounding_radius, NULL, NULL, 0, NULL, 0};
+          poly_shape_view_f prism_f;
+          memset(&prism_f, 0, sizeof prism_f);
+          prism_f.num_vertices = 6, prism_f.num_triangles = 8, prism_f.num_edges = 12;
+          prism_f.vertices = vertices, prism_f.face_normals = normals, prism_f.triangles = prism.triangles;
+          prism_f.edges = prism.edges, prism_f.edge_triangles = prism.edge_triangles;
+          prism_f.bounding_radius = (float)prism.view.bounding_radius;
           if (precision == POLY_PRECISION_SINGLE)
             poly_overlap_f(&view_f, &poses[n], &prism_f, &prism_pose, &ws_f, &host);
           else

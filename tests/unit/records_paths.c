@@ -2,7 +2,7 @@
  * the crossing records (ws.use_records = 1, the default) and the reference path
  * (ray parity per vertex, every kept triangle pair examined; use_records = 0).
  *
- *   records_paths SHAPE_FILE NUM_POSES PRECISION(double|single|mixed) [CAPACITY|convex]
+ *   records_paths SHAPE_FILE NUM_POSES PRECISION(double|single|mixed) [CAPACITY|convex|clip]
  *
  * With `convex`, it compares instead the convex path (ws.use_convex = 1, the
  * default, for shapes found convex) with the general records path
@@ -54,13 +54,15 @@ static poly_shape_view_f view_f;
 static poly_overlap_workspace_d ws_d;
 static poly_overlap_workspace_f ws_f;
 
-static int convex_mode;
+static int convex_mode, clip_mode;
 
 static void evaluate(const poly_pose *a, const poly_pose *b, int use_records, poly_overlap_result *result)
 {
-  /* First evaluation: the path under test; second: what it is checked against. */
+  /* First evaluation: the path under test; second: what it is checked against. clip: the clipping path
+   * (poly_clip.h) against the general records path; otherwise the clipping path is off. */
   int use_convex = convex_mode && use_records;
-  if (convex_mode) use_records = 1;
+  ws_d.use_clip = clip_mode && use_records;
+  if (convex_mode || clip_mode) use_records = 1;
   ws_d.use_convex = ws_f.use_convex = use_convex;
   if (precision == POLY_PRECISION_DOUBLE) {
     ws_d.use_records = use_records;
@@ -119,10 +121,12 @@ int main(int argc, char **argv)
   poly_overlap_workspace_create_f(&ws_f, shape.num_vertices, shape.num_triangles);
   ws_d.want_second_moment = ws_f.want_second_moment = 1;
   convex_mode = argc > 4 && !strcmp(argv[4], "convex");
-  if (argc > 4 && !convex_mode) ws_d.capacity_records = ws_f.capacity_records = atoi(argv[4]);
+  clip_mode = argc > 4 && !strcmp(argv[4], "clip");
+  if (argc > 4 && !convex_mode && !clip_mode) ws_d.capacity_records = ws_f.capacity_records = atoi(argv[4]);
 
   double size = 2.0 * shape.bounding_radius, volume_scale = size * size * size;
   double worst_volume = 0, worst_centroid = 0, worst_normal = 0, worst_area = 0, worst_depth = 0, worst_second = 0;
+  double worst_normal_scaled = 0;
   int flag_differences = 0, overlapping = 0, smoothed = 0, filtered = 0, wrongly_filtered = 0, hinted = 0;
   for (int p = 0; p < num_poses; p++) {
     poly_pose a = {{0, 0, 0}, {1, 0, 0, 0}}, b = {{0, 0, 0}, {1, 0, 0, 0}};
@@ -153,11 +157,11 @@ int main(int argc, char **argv)
     evaluate(&a, &b, 0, &reference);
     /* The blocks path also rejects pairs separated by a face plane (blocks_path): filtered there means
      * no overlap in the reference, not its filter's verdict. */
-    int filtered_differ = convex_mode ? (fast.filtered_out && reference.volume > 0) || (reference.filtered_out && !fast.filtered_out)
+    int filtered_differ = convex_mode || clip_mode ? (fast.filtered_out && reference.volume > 0) || (reference.filtered_out && !fast.filtered_out)
                                       : fast.filtered_out != reference.filtered_out;
     if (filtered_differ || fast.smoothed != reference.smoothed ||
         fast.recomputed != reference.recomputed || (fast.num_inconsistent > 0) != (reference.num_inconsistent > 0) ||
-        (!convex_mode && fast.num_nodes != reference.num_nodes)) {
+        (!convex_mode && !clip_mode && fast.num_nodes != reference.num_nodes)) {
       flag_differences++;
       if (flag_differences <= 5)
         fprintf(stderr,
@@ -203,6 +207,10 @@ int main(int argc, char **argv)
         double dn = reference.projected_area >= 0.1 * reference.area ? fabs(fast.normal[k] - reference.normal[k]) : 0;
         if (dc > worst_centroid) worst_centroid = dc;
         if (dn > worst_normal) worst_normal = dn;
+        /* A normal from polygons of extent L, with corners known to eps times the size, is good to about
+         * eps size / L: this weighs that out. */
+        double scaled = dn * sqrt(reference.area) / size;
+        if (scaled > worst_normal_scaled) worst_normal_scaled = scaled;
       }
       double da = fabs(fast.area - reference.area) / (size * size) * weight;
       double dd = reference.projected_area >= 0.1 * reference.area ? fabs(fast.depth - reference.depth) / size : 0;
@@ -217,10 +225,12 @@ int main(int argc, char **argv)
   printf("poses %d overlapping %d smoothed %d\n", num_poses, overlapping, smoothed);
   printf("overflows %d\n", precision == POLY_PRECISION_DOUBLE ? ws_d.records_overflows : ws_f.records_overflows);
   printf("convex %d fallbacks %d\n", view_d.face_of != NULL,
-         precision == POLY_PRECISION_DOUBLE ? ws_d.convex_fallbacks : ws_f.convex_fallbacks);
+         clip_mode ? ws_d.clip_fallbacks : precision == POLY_PRECISION_DOUBLE ? ws_d.convex_fallbacks : ws_f.convex_fallbacks);
+  printf("clip_faces %d\n", view_d.clip.num_faces);
   printf("volume %.3e\ncentroid %.3e\nnormal %.3e\narea %.3e\ndepth %.3e\nsecond_moment %.3e\nflag_differences %d\n",
          worst_volume, worst_centroid, worst_normal, worst_area, worst_depth, worst_second, flag_differences);
   printf("filtered %d\nwrongly_filtered %d\nhinted %d\n", filtered, wrongly_filtered, hinted);
+  printf("normal_scaled %.3e\n", worst_normal_scaled);
   poly_overlap_workspace_destroy_d(&ws_d);
   poly_overlap_workspace_destroy_f(&ws_f);
   poly_shape_view_free_f(&view_f);
