@@ -4,6 +4,7 @@
 #include <limits.h>
 #include <mpi.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <vtkCellArray.h>
@@ -59,7 +60,7 @@ static void sort_records_by_id(std::vector<double> &records)
 }
 
 DumpPolyhedronVTK::DumpPolyhedronVTK(LAMMPS *lmp, int narg, char **arg)
-    : Dump(lmp, narg, arg), pieces_per_rank(false), binary_output(true), compressor(COMPRESSOR_ZLIB),
+    : Dump(lmp, narg, arg), pieces_per_rank(false), binary_output(true), compressor(COMPRESSOR_ZLIB), compression_level(1),
       write_contacts(false)
 {
   if (narg != 5)
@@ -80,7 +81,8 @@ void DumpPolyhedronVTK::init_style()
   write_contacts = dynamic_cast<PairPolyhedralVolumetric *>(force->pair) != NULL;
 }
 
-// dump_modify ID binary yes|no, compressor zlib|lz4|none: the keywords of LIGGGHTS' dump custom/vtk.
+// dump_modify ID binary yes|no, compressor zlib|lz4|none (the keywords of LIGGGHTS' dump custom/vtk), and
+// compression_level 1-9 for zlib.
 int DumpPolyhedronVTK::modify_param(int narg, char **arg)
 {
   if (strcmp(arg[0], "binary") == 0) {
@@ -95,6 +97,14 @@ int DumpPolyhedronVTK::modify_param(int narg, char **arg)
     else if (strcmp(arg[1], "lz4") == 0) compressor = COMPRESSOR_LZ4;
     else if (strcmp(arg[1], "none") == 0) compressor = COMPRESSOR_NONE;
     else error->all(FLERR, "Illegal dump_modify command: compressor zlib|lz4|none");
+    return 2;
+  }
+  if (strcmp(arg[0], "compression_level") == 0) {
+    char *end = NULL;
+    long level = narg < 2 ? 0 : strtol(arg[1], &end, 10);
+    if (narg < 2 || *end != '\0' || level < 1 || level > 9)
+      error->all(FLERR, "Illegal dump_modify command: compression_level 1-9 (zlib's level)");
+    compression_level = (int) level;
     return 2;
   }
   return 0;
@@ -188,7 +198,7 @@ static vtkMultiProcessController *world_controller(MPI_Comm world)
 }
 
 template <class Writer>
-static void configure_writer(Writer *writer, bool binary_output, int compressor)
+static void configure_writer(Writer *writer, bool binary_output, int compressor, int compression_level)
 {
   writer->SetHeaderTypeToUInt64();
   if (!binary_output) {
@@ -200,8 +210,8 @@ static void configure_writer(Writer *writer, bool binary_output, int compressor)
   writer->EncodeAppendedDataOff();  // raw bytes, not base64
   if (compressor == 1) {
     writer->SetCompressorTypeToZLib();
-    // Level 1: within 3 % of level 5's size on these files at 0.6 of its time (tools/bench_dump_vtk.sh).
-    writer->SetCompressionLevel(1);
+    // Default 1: within 3 % of level 5's size on these files at 0.6 of its time (tools/bench_dump_vtk.sh).
+    writer->SetCompressionLevel(compression_level);
   }
   else if (compressor == 2) writer->SetCompressorTypeToLZ4();
   else writer->SetCompressorTypeToNone();
@@ -283,7 +293,7 @@ void DumpPolyhedronVTK::write_polydata(const std::vector<double> &records, const
   int written = 0;
   if (pieces_per_rank) {
     vtkSmartPointer<vtkXMLPPolyDataWriter> writer = vtkSmartPointer<vtkXMLPPolyDataWriter>::New();
-    configure_writer(writer.GetPointer(), binary_output, compressor);
+    configure_writer(writer.GetPointer(), binary_output, compressor, compression_level);
     writer->SetController(world_controller(world));
     writer->SetNumberOfPieces(comm->nprocs);
     writer->SetStartPiece(comm->me);
@@ -293,7 +303,7 @@ void DumpPolyhedronVTK::write_polydata(const std::vector<double> &records, const
     written = writer->Write() && writer->GetErrorCode() == 0;
   } else {
     vtkSmartPointer<vtkXMLPolyDataWriter> writer = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-    configure_writer(writer.GetPointer(), binary_output, compressor);
+    configure_writer(writer.GetPointer(), binary_output, compressor, compression_level);
     writer->SetFileName(path.c_str());
     writer->SetInputData(surfaces);
     written = writer->Write() && writer->GetErrorCode() == 0;

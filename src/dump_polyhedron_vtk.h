@@ -34,6 +34,7 @@ class DumpPolyhedronVTK : public Dump {
   bool pieces_per_rank;  // .pvtp: one piece per rank; .vtp: one file from rank 0
   bool binary_output;
   Compressor compressor;
+  int compression_level;  // zlib's, 1 (fastest) to 9
   bool write_contacts;   // the pair style counts contacts (pair_style polyhedral/volumetric)
   std::vector<double> local_records, all_records, contact_counts;
   void collect_local_records();

@@ -92,6 +92,7 @@ def test_encodings_and_pieces_hold_the_same_surfaces_and_fields(run_deck):
             "dump raw all polyhedron/vtk 1 raw_*.vtp\ndump_modify raw compressor none\n"
             "dump zlib all polyhedron/vtk 1 zlib_*.vtp\n"
             "dump lz4 all polyhedron/vtk 1 lz4_*.vtp\ndump_modify lz4 compressor lz4\n"
+            "dump zlib9 all polyhedron/vtk 1 zlib9_*.vtp\ndump_modify zlib9 compression_level 9\n"
             "dump ranks all polyhedron/vtk 1 ranks_*.pvtp\n"
             "run 0\n")
     result = run_deck(deck, nprocs=2)
@@ -101,7 +102,7 @@ def test_encodings_and_pieces_hold_the_same_surfaces_and_fields(run_deck):
     reference = read_surfaces(work / f"ascii_{step}.vtp")
     points, triangles, arrays = reference
     assert set(arrays) == {"id", "type", "shape", "v", "omega", "f", "contacts"}
-    for name in ("raw", "zlib", "lz4"):
+    for name in ("raw", "zlib", "lz4", "zlib9"):
         other_points, other_triangles, other = read_surfaces(work / f"{name}_{step}.vtp")
         assert np.array_equal(other_triangles, triangles)
         assert np.allclose(other_points, points, rtol=0, atol=1e-14)
@@ -109,6 +110,7 @@ def test_encodings_and_pieces_hold_the_same_surfaces_and_fields(run_deck):
             assert np.allclose(other[key], arrays[key], rtol=1e-14, atol=0), (name, key)
     sizes = {name: (work / f"{name}_{step}.vtp").stat().st_size for name in ("ascii", "raw", "zlib", "lz4")}
     assert sizes["zlib"] < 0.5 * sizes["raw"] and sizes["zlib"] < 0.5 * sizes["ascii"], sizes
+    assert (work / f"zlib9_{step}.vtp").stat().st_size < sizes["zlib"]
 
     # Force and contact count per particle, as dump custom and compute contact/polyhedron give them.
     columns, rows = decks.read_dump(work / "state.txt")
@@ -142,6 +144,7 @@ def test_encodings_and_pieces_hold_the_same_surfaces_and_fields(run_deck):
     ("dump d all polyhedron/vtk 10 wrong_*.vtu\n", "must end in .vtp"),
     ("dump d all polyhedron/vtk 10 d_*.vtp\ndump_modify d compressor bzip2\n", "compressor zlib|lz4|none"),
     ("dump d all polyhedron/vtk 10 d_*.vtp\ndump_modify d binary maybe\n", "binary yes|no"),
+    ("dump d all polyhedron/vtk 10 d_*.vtp\ndump_modify d compression_level 12\n", "compression_level 1-9"),
     # The deck file itself stands where a directory should be (VTK creates missing directories).
     ("dump d all polyhedron/vtk 10 in.deck/d_*.vtp\n", "could not write in.deck/d_0.vtp"),
 ])

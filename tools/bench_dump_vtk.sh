@@ -7,8 +7,8 @@
 #            packed bed's count, N particles on the lattice of examples/gravity_packing/make_packing.py (rock_40
 #            scaled to the Schönhardt polyhedron's bounding radius, so no two touch)
 #   ranks    MPI ranks (default 2)
-#   formats  of: ascii (dump_modify binary no), raw (compressor none), zlib (the default), lz4, pvtp (zlib, a
-#            piece per rank); default "ascii raw zlib lz4 pvtp". FORMATS=legacy for a launcher from before
+#   formats  of: ascii (dump_modify binary no), raw (compressor none), zlib (the default, level 1), zlib1..zlib9
+#            (compression_level), lz4, pvtp (zlib, a piece per rank); default "ascii raw zlib lz4 pvtp". FORMATS=legacy for a launcher from before
 #            dump_modify binary/compressor (ASCII .vtp by hand, commit cb9c721 and older).
 #   LAUNCHER liggghts-poly to time (default build/bin/liggghts-poly)
 #
@@ -59,6 +59,7 @@ EOF
       ascii) modify="dump_modify d binary no" ;;
       raw) modify="dump_modify d compressor none" ;;
       zlib|legacy) ;;
+      zlib[1-9]) modify="dump_modify d compression_level ${format#zlib}" ;;
       lz4) modify="dump_modify d compressor lz4" ;;
       pvtp) extension=pvtp ;;
       *) echo "unknown format $format" >&2; exit 2 ;;
