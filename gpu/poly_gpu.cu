@@ -150,17 +150,37 @@ __global__ void __launch_bounds__(kThreads)
   if (limits.bytes > 0) append(to_large, p, large, counters + 3);
 }
 
+// Pair p's two particles and the pose of j in i's body frame, as the host's overlap entry computes it: the one
+// start of every contact kernel.
+struct PairBodies {
+  const poly_gpu_particle *body_i, *body_j;
+  const poly_gpu_motion *state_i, *state_j;
+  double rotation_i[9], rotation[9], translation[3];
+};
+
+__device__ __forceinline__ void pair_bodies(int p, const int *__restrict__ pair_i, const int *__restrict__ pair_j,
+                                            const poly_gpu_particle *__restrict__ particles,
+                                            const poly_gpu_motion *__restrict__ motion, PairBodies &pair)
+{
+  const int i = pair_i[p], j = pair_j[p];
+  pair.body_i = particles + i, pair.body_j = particles + j;
+  pair.state_i = motion + i, pair.state_j = motion + j;
+  poly_overlap_relative_pose(pair.state_i->position, pair.state_i->quaternion, pair.state_j->position,
+                             pair.state_j->quaternion, pair.rotation_i, pair.rotation, pair.translation);
+}
+
 // The contact law for pair p from its overlap (in i's local frame), and what
-// the reduction and the host read: the one end of both contact kernels.
-__device__ __forceinline__ void finish_pair(int p, const poly_gpu_particle &body_i, const poly_gpu_particle &body_j,
-                            const poly_gpu_motion &state_i, const poly_gpu_motion &state_j, const double *rotation_i,
-                            const poly_overlap_result &geometry, const double *local_centroid,
+// the reduction and the host read: the one end of every contact kernel.
+__device__ __forceinline__ void finish_pair(int p, const PairBodies &pair, const poly_overlap_result &geometry, const double *local_centroid,
                             const double *local_normal, const poly_material_pair *__restrict__ materials,
                             int num_types, const poly_gpu_settings &settings, int *__restrict__ contact,
                             double *__restrict__ history, const int *__restrict__ slot,
                             PairForce *__restrict__ pair_force, PairGeometry *__restrict__ results,
                             int *__restrict__ counters)
 {
+  const poly_gpu_particle &body_i = *pair.body_i, &body_j = *pair.body_j;
+  const poly_gpu_motion &state_i = *pair.state_i, &state_j = *pair.state_j;
+  const double *rotation_i = pair.rotation_i;
   double *pair_history = history + POLY_HISTORY_SIZE * p;
   const int place = slot[p];
   double negligible = body_i.negligible_volume < body_j.negligible_volume ? body_i.negligible_volume
@@ -234,14 +254,8 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
   int local = blockIdx.x * blockDim.x + threadIdx.x;
   if (local >= count) return;
   int p = list[first + local];
-  int i = pair_i[p], j = pair_j[p];
-  const poly_gpu_particle &body_i = particles[i], &body_j = particles[j];
-  const poly_gpu_motion &state_i = motion[i], &state_j = motion[j];
-
-  // The relative pose, as poly_overlap_d/f/m compute it on the host.
-  double rotation_i[9], rotation[9], translation[3];
-  poly_overlap_relative_pose(state_i.position, state_i.quaternion, state_j.position, state_j.quaternion, rotation_i,
-                             rotation, translation);
+  PairBodies pair;
+  pair_bodies(p, pair_i, pair_j, particles, motion, pair);
 
   poly_overlap_result geometry;
   double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
@@ -250,10 +264,10 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
     typename N::Workspace ws;
     N::layout(&ws, memory.get(scratch, local, bytes_per_thread), shapes.max_vertices, shapes.max_triangles);
     ws.want_second_moment = settings.rocking;
-    typename N::View a = N::view(shapes, body_i.shape), b = N::view(shapes, body_j.shape);
-    N::overlap(&a, &b, rotation, translation, &ws, local_centroid, local_normal, &geometry);
+    typename N::View a = N::view(shapes, pair.body_i->shape), b = N::view(shapes, pair.body_j->shape);
+    N::overlap(&a, &b, pair.rotation, pair.translation, &ws, local_centroid, local_normal, &geometry);
   }
-  finish_pair(p, body_i, body_j, state_i, state_j, rotation_i, geometry, local_centroid, local_normal, materials,
+  finish_pair(p, pair, geometry, local_centroid, local_normal, materials,
               num_types, settings, contact, history, slot, pair_force, results, counters);
 }
 
@@ -273,17 +287,14 @@ __global__ void __launch_bounds__(kThreads)
   int local = blockIdx.x * blockDim.x + threadIdx.x;
   if (local >= count) return;
   int p = list[local];
-  int i = pair_i[p], j = pair_j[p];
-  const poly_gpu_particle &body_i = particles[i], &body_j = particles[j];
-  const poly_gpu_motion &state_i = motion[i], &state_j = motion[j];
-  const poly_clip_faces faces_i = shapes.clip[body_i.shape], faces_j = shapes.clip[body_j.shape];
-  double rotation_i[9], rotation[9], translation[3];
-  poly_overlap_relative_pose(state_i.position, state_i.quaternion, state_j.position, state_j.quaternion, rotation_i,
-                             rotation, translation);
+  PairBodies pair;
+  pair_bodies(p, pair_i, pair_j, particles, motion, pair);
+  const poly_clip_faces faces_i = shapes.clip[pair.body_i->shape], faces_j = shapes.clip[pair.body_j->shape];
   poly_clip_result clip;
   if (faces_i.num_faces == 0 || faces_j.num_faces == 0 ||
-      !poly_clip_overlap(&faces_i, &faces_j, rotation, translation,
-                         shapes.radius[body_i.shape] + shapes.radius[body_j.shape], settings.rocking, &clip)) {
+      !poly_clip_overlap(&faces_i, &faces_j, pair.rotation, pair.translation,
+                         shapes.radius[pair.body_i->shape] + shapes.radius[pair.body_j->shape], settings.rocking,
+                         &clip)) {
     handed_back[atomicAdd(counters + 2, 1)] = p;
     return;
   }
@@ -293,7 +304,7 @@ __global__ void __launch_bounds__(kThreads)
   geometry.area = clip.area;
   geometry.projected_area = clip.projected_area;
   for (int e = 0; e < 6; e++) geometry.second_moment[e] = clip.second_moment[e];
-  finish_pair(p, body_i, body_j, state_i, state_j, rotation_i, geometry, clip.centroid, clip.normal, materials,
+  finish_pair(p, pair, geometry, clip.centroid, clip.normal, materials,
               num_types, settings, contact, history, slot, pair_force, results, counters);
 }
 
@@ -322,26 +333,22 @@ __global__ void __launch_bounds__(kThreads)
   N::warp_layout(&memory, (char *)warp_blocks + (size_t)group * limits.bytes, limits.vertices, limits.triangles,
                  limits.edges, limits.records);
   int p = list[local];
-  int i = pair_i[p], j = pair_j[p];
-  const poly_gpu_particle &body_i = particles[i], &body_j = particles[j];
-  const poly_gpu_motion &state_i = motion[i], &state_j = motion[j];
-  double rotation_i[9], rotation[9], translation[3];
-  poly_overlap_relative_pose(state_i.position, state_i.quaternion, state_j.position, state_j.quaternion, rotation_i,
-                             rotation, translation);
+  PairBodies pair;
+  pair_bodies(p, pair_i, pair_j, particles, motion, pair);
   poly_overlap_result geometry;
   double local_centroid[3] = {0, 0, 0}, local_normal[3] = {0, 0, 0};
-  typename N::View a = N::view(shapes, body_i.shape), b = N::view(shapes, body_j.shape);
+  typename N::View a = N::view(shapes, pair.body_i->shape), b = N::view(shapes, pair.body_j->shape);
   // The pre-filter sent pairs beyond the limits elsewhere; kept as a guard of the shared block.
-  int handed = beyond(shapes, body_i.shape, body_j.shape, limits);
+  int handed = beyond(shapes, pair.body_i->shape, pair.body_j->shape, limits);
   if (!handed)
-    handed = N::warp_overlap(&a, &b, rotation, translation, settings.rocking, &memory, lanes, local_centroid,
+    handed = N::warp_overlap(&a, &b, pair.rotation, pair.translation, settings.rocking, &memory, lanes, local_centroid,
                              local_normal, &geometry, NULL);
   if (lanes.lane != 0) return;
   if (handed) {
     handed_back[atomicAdd(counters + 2, 1)] = p;
     return;
   }
-  finish_pair(p, body_i, body_j, state_i, state_j, rotation_i, geometry, local_centroid, local_normal, materials,
+  finish_pair(p, pair, geometry, local_centroid, local_normal, materials,
               num_types, settings, contact, history, slot, pair_force, results, counters);
 }
 

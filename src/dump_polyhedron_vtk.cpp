@@ -130,8 +130,9 @@ void DumpPolyhedronVTK::collect_local_records()
         write_contacts ? contact_counts[i] : 0.0};
     local_records.insert(local_records.end(), record, record + RECORD_SIZE);
   }
-  // In id order, so a file's layout depends on the decomposition only through which rank holds what.
-  sort_records_by_id(local_records);
+  // A piece in id order, so its layout depends on the decomposition only through which rank holds what (a .vtp's
+  // gathered records are put in order on rank 0).
+  if (pieces_per_rank) sort_records_by_id(local_records);
 }
 
 // Every rank's records on rank 0, in id order.
@@ -143,7 +144,8 @@ void DumpPolyhedronVTK::gather_records()
   long total = 0;
   if (comm->me == 0)
     for (int p = 0; p < comm->nprocs; p++) {
-      if (total > INT_MAX - counts[p]) error->one(FLERR, "dump polyhedron/vtk: too many particles for one .vtp file: write a .pvtp (a piece per rank)");
+      if (total > INT_MAX - counts[p])
+        error->one(FLERR, "dump polyhedron/vtk: too many particles for one .vtp file: write a .pvtp (a piece per rank)");
       displacements[p] = (int) total;
       total += counts[p];
     }
@@ -151,8 +153,7 @@ void DumpPolyhedronVTK::gather_records()
   MPI_Gatherv(local_records.empty() ? NULL : &local_records[0], local_count, MPI_DOUBLE, &all_records[0],
               &counts[0], &displacements[0], MPI_DOUBLE, 0, world);
   all_records.resize(comm->me == 0 ? total : 0);
-  if (comm->me != 0 || comm->nprocs == 1) return;
-  sort_records_by_id(all_records);
+  if (comm->me == 0) sort_records_by_id(all_records);
 }
 
 std::string DumpPolyhedronVTK::snapshot_path() const

@@ -50,9 +50,7 @@ shapes="${3:-schoenhardt cube tetrahedron rock_10 rock_40 rock_70 icosphere_80}"
 agreement="$root/build/tests/gpu_agreement"
 [ -x "$agreement" ] || { echo "no $agreement: run make (with nvcc) first" >&2; exit 1; }
 
-echo "GPU: $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null || echo unknown)"
-commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-if [ -n "$(git -C "$root" status --porcelain -- src gpu tests/unit 2>/dev/null)" ]; then commit="$commit (modified)"; fi
+. "$root/tools/bench_gpu_common.sh"
 echo "commit: $commit; pairs $pairs (scaled by 8 / triangles)"
 echo
 start=$SECONDS

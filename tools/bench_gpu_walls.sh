@@ -16,9 +16,7 @@ precisions="${2:-double mixed}"
 shapes="${3:-schoenhardt.stl cube.stl tetrahedron.obj icosphere_80.off icosphere_320.off rock_10.obj rock_40.obj rock_70.obj}"
 agreement="$root/build/tests/gpu_wall_agreement"
 [ -x "$agreement" ] || { echo "no $agreement: run make (with nvcc) first" >&2; exit 1; }
-echo "GPU: $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null || echo unknown)"
-commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-if [ -n "$(git -C "$root" status --porcelain -- src gpu tests/unit 2>/dev/null)" ]; then commit="$commit (modified)"; fi
+. "$root/tools/bench_gpu_common.sh"
 echo "commit: $commit; $count particles per shape"
 echo
 start=$SECONDS
