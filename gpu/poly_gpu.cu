@@ -25,9 +25,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "poly_gpu_device.cuh"
+#include "poly_gpu_clip_warp.cuh"
 
 using namespace poly_gpu_detail;
 
@@ -64,6 +66,8 @@ struct State {
   poly_gpu_options options;         // the kernel choices (poly_gpu_environment)
   bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
   bool any_clip;                    // some shape has faces for the clipping path (poly_clip.h)
+  bool any_pieces;                  // some such shape is not convex (several pieces): the warp clipping kernel
+  ClipWarpLimits clip_limits;       // its shared block per warp, for the uploaded shapes
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
   DeviceArray<PairGeometry> results;
@@ -271,10 +275,29 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
               num_types, settings, contact, history, slot, pair_force, results, counters);
 }
 
+// finish_pair for a result of the clipping path.
+__device__ __forceinline__ void finish_clip_pair(int p, const PairBodies &pair, const poly_clip_result &clip,
+                                                 const poly_material_pair *__restrict__ materials, int num_types,
+                                                 const poly_gpu_settings &settings, int *__restrict__ contact,
+                                                 double *__restrict__ history, const int *__restrict__ slot,
+                                                 PairForce *__restrict__ pair_force, PairGeometry *__restrict__ results,
+                                                 int *__restrict__ counters)
+{
+  poly_overlap_result geometry;
+  geometry.volume = clip.volume;
+  geometry.depth = clip.depth;
+  geometry.area = clip.area;
+  geometry.projected_area = clip.projected_area;
+  for (int e = 0; e < 6; e++) geometry.second_moment[e] = clip.second_moment[e];
+  finish_pair(p, pair, geometry, clip.centroid, clip.normal, materials,
+              num_types, settings, contact, history, slot, pair_force, results, counters);
+}
+
 // One thread per pair of `list` whose shapes both have clip faces, in double: the clipping path (poly_clip.h), the
 // host's own for such pairs, with a stack of a few KiB instead of the reference path's workspace. Pairs it
 // does not take (another shape, flush faces, more corners than its buffer) go to `handed_back` (counters[2])
 // for contact_kernel.
+template <bool Pieces>
 __global__ void __launch_bounds__(kThreads)
     clip_contact_kernel(DeviceShapes shapes, const int *__restrict__ list, int count, const int *__restrict__ pair_i,
                         const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
@@ -292,20 +315,49 @@ __global__ void __launch_bounds__(kThreads)
   const poly_clip_faces faces_i = shapes.clip[pair.body_i->shape], faces_j = shapes.clip[pair.body_j->shape];
   poly_clip_result clip;
   if (faces_i.num_faces == 0 || faces_j.num_faces == 0 ||
-      !poly_clip_overlap(&faces_i, &faces_j, pair.rotation, pair.translation,
-                         shapes.radius[pair.body_i->shape] + shapes.radius[pair.body_j->shape], settings.rocking,
-                         &clip)) {
+      !poly_clip_overlap_of(&faces_i, &faces_j, pair.rotation, pair.translation,
+                            shapes.radius[pair.body_i->shape] + shapes.radius[pair.body_j->shape], settings.rocking,
+                            Pieces, &clip)) {
     handed_back[atomicAdd(counters + 2, 1)] = p;
     return;
   }
-  poly_overlap_result geometry;
-  geometry.volume = clip.volume;
-  geometry.depth = clip.depth;
-  geometry.area = clip.area;
-  geometry.projected_area = clip.projected_area;
-  for (int e = 0; e < 6; e++) geometry.second_moment[e] = clip.second_moment[e];
-  finish_pair(p, pair, geometry, clip.centroid, clip.normal, materials,
-              num_types, settings, contact, history, slot, pair_force, results, counters);
+  finish_clip_pair(p, pair, clip, materials, num_types, settings, contact, history, slot, pair_force, results,
+                   counters);
+}
+
+// One warp per pair of `list` whose shapes both have clip faces, in double: the clipping path spread over the
+// warp's lanes (poly_gpu_clip_warp.cuh); what it does not take goes to `handed_back`, as from
+// clip_contact_kernel.
+__global__ void __launch_bounds__(32 * POLY_CLIP_WARPS, POLY_CLIP_WARP_MIN_BLOCKS)
+    clip_warp_kernel(DeviceShapes shapes, const int *__restrict__ list, int count, const int *__restrict__ pair_i,
+                     const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
+                     const poly_gpu_motion *__restrict__ motion, const poly_material_pair *__restrict__ materials,
+                     int num_types, poly_gpu_settings settings, int *__restrict__ contact,
+                     double *__restrict__ history, const int *__restrict__ slot,
+                     PairForce *__restrict__ pair_force, PairGeometry *__restrict__ results,
+                     int *__restrict__ counters, int *__restrict__ handed_back, ClipWarpLimits limits)
+{
+  extern __shared__ double clip_blocks[];
+  const int warp = threadIdx.x >> 5, local = blockIdx.x * POLY_CLIP_WARPS + warp;
+  if (local >= count) return;  // the whole warp
+  ClipWarpMemory memory;
+  clip_warp_layout(&memory, (char *)clip_blocks + (size_t)warp * limits.bytes, limits);
+  int p = list[local];
+  PairBodies pair;
+  pair_bodies(p, pair_i, pair_j, particles, motion, pair);
+  const poly_clip_faces faces_i = shapes.clip[pair.body_i->shape], faces_j = shapes.clip[pair.body_j->shape];
+  poly_clip_result clip;
+  const int handed = faces_i.num_faces == 0 || faces_j.num_faces == 0 ||
+                     clip_warp_overlap(faces_i, faces_j, pair.rotation, pair.translation,
+                                       shapes.radius[pair.body_i->shape] + shapes.radius[pair.body_j->shape],
+                                       settings.rocking, memory, &clip);
+  if ((threadIdx.x & 31) != 0) return;
+  if (handed) {
+    handed_back[atomicAdd(counters + 2, 1)] = p;
+    return;
+  }
+  finish_clip_pair(p, pair, clip, materials, num_types, settings, contact, history, slot, pair_force, results,
+                   counters);
 }
 
 // One warp per pair of `list` (poly_gpu_warp_impl.cuh), each warp with its
@@ -383,7 +435,9 @@ void free_shapes(DeviceShapes &s)
   cudaFree(s.vertices_d); cudaFree(s.normals_d); cudaFree(s.vertices_f); cudaFree(s.normals_f);
   cudaFree(s.triangles); cudaFree(s.edges); cudaFree(s.edge_triangles);
   cudaFree(s.clip); cudaFree(s.clip_planes); cudaFree(s.clip_loop_start); cudaFree(s.clip_loop);
-  cudaFree(s.clip_triangle);
+  cudaFree(s.clip_triangle); cudaFree(s.clip_piece_front); cudaFree(s.clip_piece_back);
+  cudaFree(s.clip_piece_point_start); cudaFree(s.clip_piece_points); cudaFree(s.clip_piece_face_start);
+  cudaFree(s.clip_piece_faces);
   memset(&s, 0, sizeof s);
 }
 
@@ -508,10 +562,23 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
     // Pairs of shapes with clip faces take the clipping path; the rest, and what it hands back, the one-thread
     // kernel.
     if (!ensure(state.handed_back, num_touching, message, size)) return false;
-    clip_contact_kernel<<<(num_touching + kThreads - 1) / kThreads, kThreads>>>(
-        s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
-        state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
-        state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_back.data);
+    // Pairs of convex shapes run faster one per thread (their few faces leave most of a warp idle); shapes of
+    // several pieces one per warp (doc/benchmarks.md, "Clipping kernels").
+    const bool by_warp = state.options.clip_kernel ? state.options.clip_kernel == 2 : state.any_pieces;
+    if (!by_warp)
+      (state.any_pieces ? clip_contact_kernel<true> : clip_contact_kernel<false>)
+          <<<(num_touching + kThreads - 1) / kThreads, kThreads>>>(
+              s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
+              state.motion.data, state.materials.data, state.num_types, settings, state.contact.data,
+              state.history.data, state.slot.data, state.pair_force.data, device_results, state.counters.data,
+              state.handed_back.data);
+    else
+      clip_warp_kernel<<<(num_touching + POLY_CLIP_WARPS - 1) / POLY_CLIP_WARPS, 32 * POLY_CLIP_WARPS,
+                         POLY_CLIP_WARPS * state.clip_limits.bytes>>>(
+          s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
+          state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+          state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_back.data,
+          state.clip_limits);
     int num_handed = 0;
     if (!check(cudaGetLastError(), "clip kernel launch", message, size) ||
         !check(cudaMemcpy(&num_handed, state.counters.data + 2, sizeof(int), cudaMemcpyDeviceToHost), "clip kernel",
@@ -621,50 +688,94 @@ extern "C" int poly_gpu_environment(poly_gpu_options *options, char *message, si
                   message_size) ||
       read_choice("POLY_GPU_WALL_KERNEL", kernels, kernel_values, 2, "thread or warp", &options->wall_kernel, message,
                   message_size) ||
+      read_choice("POLY_GPU_CLIP_KERNEL", kernels, kernel_values, 2, "thread or warp", &options->clip_kernel, message,
+                  message_size) ||
       read_count("POLY_GPU_MIN_PAIRS", POLY_GPU_DEFAULT_MIN_PAIRS, &options->min_pairs, message, message_size) ||
       read_count("POLY_GPU_MIN_PIECES", POLY_GPU_DEFAULT_MIN_PIECES, &options->min_pieces, message, message_size))
     return -1;
   return 0;
 }
 
-// The shapes' faces for the clipping path (poly_clip.h), and per shape a poly_clip_faces of device pointers
-// into them and into the uploaded vertices; shapes without clip faces get num_faces 0.
+// The shapes' faces and convex pieces for the clipping path (poly_clip.h), and per shape a poly_clip_faces of
+// device pointers into them and into the uploaded vertices; shapes without clip faces get num_faces 0.
 static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, const std::vector<int> &offsets,
                        char *message, size_t message_size)
 {
   DeviceShapes &s = state.shapes;
   std::vector<double> planes;
-  std::vector<int> loop_start, loop, triangle, first_face, first_start, first_corner;
-  state.any_clip = false;
+  std::vector<int> loop_start, loop, triangle, point_start, points, face_start, faces;
+  std::vector<poly_clip_mask> front, back;
+  std::vector<int> first_plane, first_face, first_start, first_corner, first_piece, first_point_start, first_face_start,
+      first_point, first_piece_face;
+  state.any_clip = state.any_pieces = false;
+  ClipWarpLimits limits = {0, 0, 0, 0};
   for (int i = 0; i < num_shapes; i++) {
     const poly_shape *shape = shapes[i];
+    first_plane.push_back((int)planes.size() / 4);
     first_face.push_back((int)triangle.size());
     first_start.push_back((int)loop_start.size());
     first_corner.push_back((int)loop.size());
+    first_piece.push_back((int)front.size());
+    first_point_start.push_back((int)point_start.size());
+    first_face_start.push_back((int)face_start.size());
+    first_point.push_back((int)points.size());
+    first_piece_face.push_back((int)faces.size());
     if (shape->num_clip_faces == 0) continue;
     state.any_clip = true;
-    planes.insert(planes.end(), shape->clip_planes, shape->clip_planes + 4 * shape->num_clip_faces);
+    const int np = shape->num_clip_pieces;
+    if (np > 1) state.any_pieces = true;
+    limits.vertices = std::max(limits.vertices, shape->num_vertices);
+    limits.planes = std::max(limits.planes, shape->num_clip_planes);
+    limits.pieces = std::max(limits.pieces, np);
+    planes.insert(planes.end(), shape->clip_planes, shape->clip_planes + 4 * shape->num_clip_planes);
     loop_start.insert(loop_start.end(), shape->clip_loop_start, shape->clip_loop_start + shape->num_clip_faces + 1);
     loop.insert(loop.end(), shape->clip_loop, shape->clip_loop + shape->clip_loop_start[shape->num_clip_faces]);
     triangle.insert(triangle.end(), shape->clip_face_triangle, shape->clip_face_triangle + shape->num_clip_faces);
+    front.insert(front.end(), shape->clip_piece_front, shape->clip_piece_front + np);
+    back.insert(back.end(), shape->clip_piece_back, shape->clip_piece_back + np);
+    point_start.insert(point_start.end(), shape->clip_piece_point_start, shape->clip_piece_point_start + np + 1);
+    points.insert(points.end(), shape->clip_piece_points, shape->clip_piece_points + shape->clip_piece_point_start[np]);
+    face_start.insert(face_start.end(), shape->clip_piece_face_start, shape->clip_piece_face_start + np + 1);
+    faces.insert(faces.end(), shape->clip_piece_faces, shape->clip_piece_faces + shape->clip_piece_face_start[np]);
   }
   if (!upload_raw(&s.clip_planes, planes, message, message_size) ||
       !upload_raw(&s.clip_loop_start, loop_start, message, message_size) ||
       !upload_raw(&s.clip_loop, loop, message, message_size) ||
-      !upload_raw(&s.clip_triangle, triangle, message, message_size))
+      !upload_raw(&s.clip_triangle, triangle, message, message_size) ||
+      !upload_raw(&s.clip_piece_front, front, message, message_size) ||
+      !upload_raw(&s.clip_piece_back, back, message, message_size) ||
+      !upload_raw(&s.clip_piece_point_start, point_start, message, message_size) ||
+      !upload_raw(&s.clip_piece_points, points, message, message_size) ||
+      !upload_raw(&s.clip_piece_face_start, face_start, message, message_size) ||
+      !upload_raw(&s.clip_piece_faces, faces, message, message_size))
     return false;
-  std::vector<poly_clip_faces> faces(num_shapes);
+  limits.bytes = clip_warp_layout(NULL, NULL, limits);
+  state.clip_limits = limits;
+  if (state.any_pieces &&
+      !check(cudaFuncSetAttribute(clip_warp_kernel, cudaFuncAttributeMaxDynamicSharedMemorySize,
+                                  (int)(POLY_CLIP_WARPS * limits.bytes)), "cudaFuncSetAttribute", message, message_size))
+    return false;
+  std::vector<poly_clip_faces> clip(num_shapes);
   for (int i = 0; i < num_shapes; i++) {
-    poly_clip_faces &f = faces[i];
+    poly_clip_faces &f = clip[i];
+    memset(&f, 0, sizeof f);
     f.num_faces = shapes[i]->num_clip_faces;
     f.num_vertices = shapes[i]->num_vertices;
+    f.num_planes = shapes[i]->num_clip_planes;
+    f.num_pieces = shapes[i]->num_clip_pieces;
     f.vertices = s.vertices_d + 3 * offsets[3 * i];
-    f.planes = s.clip_planes + 4 * first_face[i];
+    f.planes = s.clip_planes + 4 * first_plane[i];
     f.loop_start = s.clip_loop_start + first_start[i];
     f.loop = s.clip_loop + first_corner[i];
     f.triangle = s.clip_triangle + first_face[i];
+    f.piece_front = s.clip_piece_front + first_piece[i];
+    f.piece_back = s.clip_piece_back + first_piece[i];
+    f.piece_point_start = s.clip_piece_point_start + first_point_start[i];
+    f.piece_points = s.clip_piece_points + first_point[i];
+    f.piece_face_start = s.clip_piece_face_start + first_face_start[i];
+    f.piece_faces = s.clip_piece_faces + first_piece_face[i];
   }
-  return upload_raw(&s.clip, faces, message, message_size);
+  return upload_raw(&s.clip, clip, message, message_size);
 }
 
 extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const *shapes, char *message,

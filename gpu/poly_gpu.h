@@ -134,6 +134,7 @@ int poly_gpu_device_count(void);
  * how much work a rank leaves the GPU idle and runs the host's code instead. */
 typedef struct poly_gpu_options {
   int pair_kernel;               /* POLY_GPU_PAIR_KERNEL = thread | warp: 1, 2 (0 unset: chosen from the shapes) */
+  int clip_kernel;               /* POLY_GPU_CLIP_KERNEL = thread | warp: 1, 2 (0 unset: warp), for the clipping path */
   int pair_lanes;                /* POLY_GPU_PAIR_LANES = 8 | 16 | 32, pairs and wall pieces (0 unset: from the shapes) */
   int wall_kernel;               /* POLY_GPU_WALL_KERNEL = thread | warp: 1, 2 (0 unset: chosen from the shapes) */
   long min_pairs;                /* POLY_GPU_MIN_PAIRS: fewer neighbour-list pairs on a rank (one in contact counting

@@ -11,9 +11,21 @@
  * kernel alike. The faces come from poly_shape_find_faces (poly_clip_faces:
  * per face its plane and its corners in order, counter-clockwise seen from
  * outside). Any vertex of one body within POLY_CLIP_FLUSH of the size of a
- * plane of the other hands the pair back (returns 0): flush faces take the
+ * plane of the other (a piece's inner planes included) hands the pair back
+ * (returns 0): flush faces take the
  * general path, whose smoothing makes the area continuous there; that test
- * is a superset of the general path's own flush test (2^-34 of the size). */
+ * is a superset of the general path's own flush test (2^-34 of the size).
+ *
+ * Shapes that are not convex take it too, through convex pieces: A's boundary
+ * inside B is the union over B's pieces of A's faces clipped by the piece's
+ * planes, and B's inside A likewise, so each body's own faces are clipped by
+ * the other's pieces and the pieces' inner planes never make a polygon. Only
+ * pairs of pieces that no plane of either parts are clipped.
+ *
+ * The polygons are summed as they come; their corners are kept for the depth
+ * (the extent along the normal, known only at the end) up to
+ * POLY_CLIP_MAX_NODES, and past that the clipping runs a second time for the
+ * extent alone. */
 #ifndef POLY_CLIP_H
 #define POLY_CLIP_H
 
@@ -22,14 +34,34 @@
 #include "poly_clip_limits.h"
 #include "poly_rigid.h"
 
-/* A convex shape's faces, body frame. */
+typedef unsigned long long poly_clip_mask;  /* a bit per plane of a shape (POLY_CLIP_MAX_SHAPE_PLANES) */
+
+POLY_INLINE int poly_clip_lowest_bit64(poly_clip_mask mask)
+{
+#ifdef __CUDA_ARCH__
+  return __ffsll((long long)mask) - 1;
+#else
+  return __builtin_ctzll(mask);
+#endif
+}
+
+/* A shape's faces and convex pieces, body frame. */
 typedef struct poly_clip_faces {
   int num_faces, num_vertices;
   const double *vertices;  /* 3 per vertex */
-  const double *planes;    /* 4 per face: unit outward normal n and offset d, n.x = d on the face */
+  const double *planes;    /* 4 per plane: unit outward normal n and offset d, n.x = d on it (see below) */
   const int *loop_start;   /* num_faces + 1 offsets into loop */
   const int *loop;         /* corners of each face in order, counter-clockwise seen from outside */
   const int *triangle;     /* per face its lowest triangle (for the separation hint's code) */
+  /* Convex pieces whose union is the body, interiors apart: one for a convex shape (its faces' planes); for
+   * one that is not, cones from the centre of mass over patches of its surface (poly_shape_find_faces). Each
+   * piece is the intersection of half-spaces of the shape's planes: `planes` holds num_planes of them (the
+   * faces' planes first for a convex shape), a piece lies behind the planes of its piece_front mask and in
+   * front of those of its piece_back mask. */
+  int num_planes, num_pieces;
+  const poly_clip_mask *piece_front, *piece_back;
+  const int *piece_point_start, *piece_points;  /* per piece its corners; index num_vertices is the origin */
+  const int *piece_face_start, *piece_faces;    /* per piece the faces on its surface */
 } poly_clip_faces;
 
 /* What the clipping gives, in A's body frame (the caller turns it to world). */
@@ -43,6 +75,17 @@ typedef struct poly_clip_sums {
   double volume6, moment24[3], second120[6], area_vector[3], area;
   int want_second;
 } poly_clip_sums;
+
+/* The boundary polygons' sums, from the first polygon's first corner (so shallow overlaps lose no digits to a
+ * distant origin), and their corners for the depth; in the second pass (depth_pass) only the extent along
+ * `direction`. */
+typedef struct poly_clip_accumulator {
+  poly_clip_sums sums;
+  double reference[3];
+  int num_corners, num_kept, overflow, depth_pass;
+  double direction[3], low, high;
+  double nodes[3 * POLY_CLIP_MAX_NODES];
+} poly_clip_accumulator;
 
 /* Clips polygon `in` (count corners, 3 each) by the half-space n.x <= d into `out`; returns the new count.
  * Each corner's side is computed once. */
@@ -92,13 +135,46 @@ POLY_INLINE void poly_clip_add_polygon(const double *polygon, int count, int on_
   }
 }
 
+POLY_INLINE void poly_clip_accumulator_start(poly_clip_accumulator *acc, int want_second)
+{
+  acc->sums.volume6 = acc->sums.area = 0.0;
+  for (int k = 0; k < 3; k++) acc->sums.moment24[k] = acc->sums.area_vector[k] = 0.0;
+  for (int e = 0; e < 6; e++) acc->sums.second120[e] = 0.0;
+  acc->sums.want_second = want_second;
+  acc->num_corners = acc->num_kept = acc->overflow = acc->depth_pass = 0;
+}
+
+/* One boundary polygon (`polygon`, a work buffer it may change): summed, its corners kept; or, in the depth
+ * pass, its extent along the normal. */
+POLY_INLINE void poly_clip_accumulate(poly_clip_accumulator *acc, double *polygon, int n, int on_a)
+{
+  if (acc->num_corners == 0)
+    for (int k = 0; k < 3; k++) acc->reference[k] = polygon[k];
+  for (int c = 0; c < n; c++)
+    for (int k = 0; k < 3; k++) polygon[3 * c + k] -= acc->reference[k];
+  acc->num_corners += n;
+  if (acc->depth_pass) {
+    for (int c = 0; c < n; c++) {
+      const double *x = polygon + 3 * c;
+      double along = acc->direction[0] * x[0] + acc->direction[1] * x[1] + acc->direction[2] * x[2];
+      acc->low = along < acc->low ? along : acc->low;
+      acc->high = along > acc->high ? along : acc->high;
+    }
+    return;
+  }
+  poly_clip_add_polygon(polygon, n, on_a, &acc->sums);
+  if (acc->num_kept + n <= POLY_CLIP_MAX_NODES) {
+    for (int c = 0; c < 3 * n; c++) acc->nodes[3 * acc->num_kept + c] = polygon[c];
+    acc->num_kept += n;
+  } else {
+    acc->overflow = 1;
+  }
+}
+
 /* The faces of `body` (vertices `x`, already in A's frame) clipped by `planes` of the other body (A's frame),
- * `front[v]` the vertices' masks of the planes they are in front of: each surviving polygon's corners are
- * appended to `nodes` and its corner count to `counts` (negative for A's faces). Returns 0 when the buffers
- * are full. */
-POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, const double *planes, int other_faces,
-                               const unsigned *front, int on_a, double *nodes, int *num_nodes, int *counts,
-                               int *num_polygons)
+ * `front[v]` the vertices' masks of the planes they are in front of; each surviving polygon accumulated. */
+POLY_INLINE void poly_clip_body(const poly_clip_faces *body, const double *x, const double *planes, int other_faces,
+                                const unsigned *front, int on_a, poly_clip_accumulator *acc)
 {
   double work[2][3 * POLY_CLIP_MAX_POLYGON];
   for (int f = 0; f < body->num_faces; f++) {
@@ -111,32 +187,19 @@ POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, con
       some_front |= front[loop[c]];
     }
     if (all_front) continue;
-    int most = count;  /* corners after the clipping: at most one more per cutting plane */
-    for (unsigned m = some_front; m; m &= m - 1) most++;
-    if (*num_nodes + most > POLY_CLIP_MAX_NODES || *num_polygons == 2 * POLY_CLIP_MAX_FACES) return 0;
-    double *polygon = nodes + 3 * *num_nodes;
+    double *in = work[0], *out = work[1];
     int n = count;
-    if (!some_front) {
-      for (int c = 0; c < count; c++)
-        for (int k = 0; k < 3; k++) polygon[3 * c + k] = x[3 * loop[c] + k];
-    } else {
-      double *in = work[0], *out = work[1];
-      for (int c = 0; c < count; c++)
-        for (int k = 0; k < 3; k++) in[3 * c + k] = x[3 * loop[c] + k];
-      for (int k = 0; k < other_faces && n >= 3; k++)
-        if (some_front & (1u << k)) {
-          n = poly_clip_polygon(in, n, planes + 4 * k, out);
-          double *swap = in;
-          in = out;
-          out = swap;
-        }
-      if (n < 3) continue;
-      for (int c = 0; c < 3 * n; c++) polygon[c] = in[c];
-    }
-    *num_nodes += n;
-    counts[(*num_polygons)++] = on_a ? -n : n;
+    for (int c = 0; c < count; c++)
+      for (int k = 0; k < 3; k++) in[3 * c + k] = x[3 * loop[c] + k];
+    for (int k = 0; k < other_faces && n >= 3; k++)
+      if (some_front & (1u << k)) {
+        n = poly_clip_polygon(in, n, planes + 4 * k, out);
+        double *swap = in;
+        in = out;
+        out = swap;
+      }
+    if (n >= 3) poly_clip_accumulate(acc, in, n, on_a);
   }
-  return 1;
 }
 
 /* Masks of the planes each of `count` points `x` is in front of, into `front`, and in `*parting` the planes every
@@ -167,96 +230,271 @@ POLY_INLINE int poly_clip_lowest_bit(unsigned mask)
   return k;
 }
 
-/* The overlap of A and B, B's body frame taken to A's by `rotation` (row-major) and `translation`. Returns 1
- * with `out` filled (volume 0: apart), or 0 when the pair must take the general path (flush faces, or more
- * polygon corners than the node buffer holds). */
-POLY_INLINE int poly_clip_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
-                                  const double *translation, double size, int want_second, poly_clip_result *out)
+/* Volume, centroid, second moment, area and normal of the intersection from the accumulated sums, and its depth
+ * from the kept corners; returns 0 when corners were not kept (overflow) and the depth needs the second pass. */
+POLY_INLINE int poly_clip_finish(poly_clip_accumulator *acc, const double *translation, poly_clip_result *out)
 {
-  double xb[3 * POLY_CLIP_MAX_VERTICES], planes_b[4 * POLY_CLIP_MAX_FACES];
-  unsigned front_a[POLY_CLIP_MAX_VERTICES], front_b[POLY_CLIP_MAX_VERTICES];
-  const int fa = a->num_faces, fb = b->num_faces, na = a->num_vertices, nb = b->num_vertices;
-  const double flush = POLY_CLIP_FLUSH * size;
-  for (int v = 0; v < nb; v++) {
-    poly_matrix_apply(rotation, b->vertices + 3 * v, xb + 3 * v);
-    for (int k = 0; k < 3; k++) xb[3 * v + k] += translation[k];
+  if (acc->num_corners == 0) return 1;
+  const poly_clip_sums *sums = &acc->sums;
+  double volume = sums->volume6 / 6.0;
+  if (!(volume > 0.0)) return 1;
+  out->volume = volume;
+  out->num_nodes = acc->num_corners;
+  double from_reference[3];
+  for (int k = 0; k < 3; k++) {
+    from_reference[k] = sums->moment24[k] / (24.0 * volume);
+    out->centroid[k] = from_reference[k] + acc->reference[k];
   }
+  out->area = sums->area;
+  if (sums->want_second) {
+    for (int e = 0; e < 6; e++) out->second_moment[e] = sums->second120[e] / 120.0;
+    poly_second_moment_to_centroid(out->second_moment, volume, from_reference);
+  }
+  /* Normal (eq. 4.19): A's surface inside B; the centre line when it sums to nothing. */
+  double length = sqrt(sums->area_vector[0] * sums->area_vector[0] + sums->area_vector[1] * sums->area_vector[1] +
+                       sums->area_vector[2] * sums->area_vector[2]);
+  out->projected_area = length;
+  if (length > 1e-9 * sums->area && length > 0.0) {
+    for (int k = 0; k < 3; k++) out->normal[k] = sums->area_vector[k] / length;
+  } else {
+    double t = sqrt(translation[0] * translation[0] + translation[1] * translation[1] + translation[2] * translation[2]);
+    for (int k = 0; k < 3; k++) out->normal[k] = t > 0.0 ? translation[k] / t : (k == 2 ? 1.0 : 0.0);
+  }
+  acc->low = 1e300, acc->high = -1e300;
+  for (int k = 0; k < 3; k++) acc->direction[k] = out->normal[k];
+  if (acc->overflow) {
+    acc->depth_pass = 1;
+    acc->num_corners = 0;  /* the second pass sets the same reference again */
+    return 0;
+  }
+  for (int p = 0; p < acc->num_kept; p++) {
+    const double *x = acc->nodes + 3 * p;
+    double along = out->normal[0] * x[0] + out->normal[1] * x[1] + out->normal[2] * x[2];
+    acc->low = along < acc->low ? along : acc->low;
+    acc->high = along > acc->high ? along : acc->high;
+  }
+  out->depth = acc->high > acc->low ? acc->high - acc->low : 0.0;
+  return 1;
+}
+
+POLY_INLINE void poly_clip_finish_depth(const poly_clip_accumulator *acc, poly_clip_result *out)
+{
+  out->depth = acc->high > acc->low ? acc->high - acc->low : 0.0;
+}
+
+/* Point `p` against `num_planes` planes: the planes it is in front of into *ahead, behind into *behind; returns 1
+ * when it is within `flush` of one. */
+POLY_INLINE int poly_clip_point_sides(const double *p, const double *planes, int num_planes, double flush,
+                                      poly_clip_mask *ahead, poly_clip_mask *behind)
+{
+  poly_clip_mask front = 0, back = 0;
+  int near = 0;
+  for (int k = 0; k < num_planes; k++) {
+    const double *plane = planes + 4 * k;
+    double s = plane[0] * p[0] + plane[1] * p[1] + plane[2] * p[2] - plane[3];
+    if (s > 0.0) front |= (poly_clip_mask)1 << k;
+    if (s < 0.0) back |= (poly_clip_mask)1 << k;
+    near |= fabs(s) <= flush;
+  }
+  *ahead = front;
+  *behind = back;
+  return near;
+}
+
+/* Each of `count` points `x` (and the point `apex` after them) against `num_planes` planes (poly_clip_point_sides);
+ * 0 when one of the points (not the apex) is within `flush` of a plane (the pair goes to the general path). */
+POLY_INLINE int poly_clip_sides_of_planes(const double *x, int count, const double *apex, const double *planes,
+                                          int num_planes, double flush, poly_clip_mask *ahead, poly_clip_mask *behind)
+{
+  for (int v = 0; v <= count; v++)
+    if (poly_clip_point_sides(v < count ? x + 3 * v : apex, planes, num_planes, flush, ahead + v, behind + v) &&
+        v < count)
+      return 0;
+  return 1;
+}
+
+/* Face `face` of `body` (vertices `x` in A's frame, their sides `ahead` and `behind` of the other body's `planes`
+ * in A's frame) clipped by the piece of the other body behind the planes of `front` and ahead of those of
+ * `back`, in the work buffers (`capacity` corners each): returns the corner count (0: nothing left; -1: it could
+ * outgrow the buffers) and in *result the buffer holding them. */
+POLY_INLINE int poly_clip_face_by_piece(const poly_clip_faces *body, int face, const double *x,
+                                        const poly_clip_mask *ahead, const poly_clip_mask *behind,
+                                        const double *planes, poly_clip_mask front, poly_clip_mask back,
+                                        double *work_in, double *work_out, int capacity, double **result)
+{
+  const int *loop = body->loop + body->loop_start[face];
+  const int count = body->loop_start[face + 1] - body->loop_start[face];
+  poly_clip_mask all_out = ~(poly_clip_mask)0, some_out = 0;
+  for (int c = 0; c < count; c++) {
+    poly_clip_mask out = (ahead[loop[c]] & front) | (behind[loop[c]] & back);
+    all_out &= out;
+    some_out |= out;
+  }
+  if (all_out) return 0;
+  int most = count;  /* corners after the clipping: at most one more per cutting plane */
+  for (poly_clip_mask m = some_out; m; m &= m - 1) most++;
+  if (most > capacity) return -1;
+  double *in = work_in, *out = work_out;
+  int n = count;
+  for (int c = 0; c < count; c++)
+    for (int k = 0; k < 3; k++) in[3 * c + k] = x[3 * loop[c] + k];
+  for (poly_clip_mask m = some_out; m && n >= 3; m &= m - 1) {
+    int k = poly_clip_lowest_bit64(m);
+    const double *plane = planes + 4 * k;
+    double flipped[4] = {-plane[0], -plane[1], -plane[2], -plane[3]};
+    n = poly_clip_polygon(in, n, (back >> k) & 1 ? flipped : plane, out);
+    double *swap = in;
+    in = out;
+    out = swap;
+  }
+  *result = in;
+  return n >= 3 ? n : 0;
+}
+
+/* The faces `faces` of `body` clipped by a piece of the other body (as poly_clip_face_by_piece); each surviving
+ * polygon accumulated. */
+POLY_INLINE void poly_clip_faces_by_piece(const poly_clip_faces *body, const int *faces, int num_faces,
+                                          const double *x, const poly_clip_mask *ahead, const poly_clip_mask *behind,
+                                          const double *planes, poly_clip_mask front, poly_clip_mask back, int on_a,
+                                          poly_clip_accumulator *acc)
+{
+  double work[2][3 * POLY_CLIP_MAX_POLYGON], *polygon = 0;
+  for (int i = 0; i < num_faces; i++) {
+    int n = poly_clip_face_by_piece(body, faces[i], x, ahead, behind, planes, front, back, work[0], work[1],
+                                    POLY_CLIP_MAX_POLYGON, &polygon);
+    if (n >= 3) poly_clip_accumulate(acc, polygon, n, on_a);
+  }
+}
+
+/* The pieces' sides: per piece, the planes all its points are in front of, and behind. */
+POLY_INLINE void poly_clip_piece_sides(const poly_clip_faces *body, const poly_clip_mask *ahead,
+                                       const poly_clip_mask *behind, poly_clip_mask *all_ahead,
+                                       poly_clip_mask *all_behind)
+{
+  for (int i = 0; i < body->num_pieces; i++) {
+    poly_clip_mask front = ~(poly_clip_mask)0, back = ~(poly_clip_mask)0;
+    for (int p = body->piece_point_start[i]; p < body->piece_point_start[i + 1]; p++) {
+      front &= ahead[body->piece_points[p]];
+      back &= behind[body->piece_points[p]];
+    }
+    all_ahead[i] = front;
+    all_behind[i] = back;
+  }
+}
+
+/* Shapes that are not both convex: for each pair of pieces that no plane of either parts, B's faces on B's
+ * piece clipped by A's piece, and A's faces on A's piece by B's piece (twice when the corners overflow). */
+POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *xb,
+                                         const double *rotation, const double *translation, double flush,
+                                         poly_clip_accumulator *acc, poly_clip_result *out)
+{
+  double planes_b[4 * POLY_CLIP_MAX_SHAPE_PLANES];
+  poly_clip_mask ahead_a[POLY_CLIP_MAX_VERTICES + 1], behind_a[POLY_CLIP_MAX_VERTICES + 1];
+  poly_clip_mask ahead_b[POLY_CLIP_MAX_VERTICES + 1], behind_b[POLY_CLIP_MAX_VERTICES + 1];
+  poly_clip_mask piece_ahead_a[POLY_CLIP_MAX_PIECES], piece_behind_a[POLY_CLIP_MAX_PIECES];
+  poly_clip_mask piece_ahead_b[POLY_CLIP_MAX_PIECES], piece_behind_b[POLY_CLIP_MAX_PIECES];
+  for (int f = 0; f < b->num_planes; f++) {
+    double *plane = planes_b + 4 * f;
+    poly_matrix_apply(rotation, b->planes + 4 * f, plane);
+    plane[3] = b->planes[4 * f + 3] + plane[0] * translation[0] + plane[1] * translation[1] + plane[2] * translation[2];
+  }
+  const double origin[3] = {0.0, 0.0, 0.0};
+  if (!poly_clip_sides_of_planes(xb, b->num_vertices, translation, a->planes, a->num_planes, flush, ahead_b,
+                                 behind_b) ||
+      !poly_clip_sides_of_planes(a->vertices, a->num_vertices, origin, planes_b, b->num_planes, flush, ahead_a,
+                                 behind_a))
+    return 0;
+  poly_clip_piece_sides(b, ahead_b, behind_b, piece_ahead_b, piece_behind_b);
+  poly_clip_piece_sides(a, ahead_a, behind_a, piece_ahead_a, piece_behind_a);
+  for (int pass = 0; pass < 2; pass++) {
+    for (int i = 0; i < a->num_pieces; i++) {
+      const poly_clip_mask front_a = a->piece_front[i], back_a = a->piece_back[i];
+      for (int j = 0; j < b->num_pieces; j++) {
+        const poly_clip_mask front_b = b->piece_front[j], back_b = b->piece_back[j];
+        if ((piece_ahead_b[j] & front_a) | (piece_behind_b[j] & back_a) | (piece_ahead_a[i] & front_b) |
+            (piece_behind_a[i] & back_b))
+          continue;  /* a plane of one piece has the other wholly outside */
+        poly_clip_faces_by_piece(b, b->piece_faces + b->piece_face_start[j],
+                                 b->piece_face_start[j + 1] - b->piece_face_start[j], xb, ahead_b, behind_b,
+                                 a->planes, front_a, back_a, 0, acc);
+        poly_clip_faces_by_piece(a, a->piece_faces + a->piece_face_start[i],
+                                 a->piece_face_start[i + 1] - a->piece_face_start[i], a->vertices, ahead_a,
+                                 behind_a, planes_b, front_b, back_b, 1, acc);
+      }
+    }
+    if (pass == 0 && poly_clip_finish(acc, translation, out)) return 1;
+  }
+  poly_clip_finish_depth(acc, out);
+  return 1;
+}
+
+/* Two convex shapes (one piece each): each body's vertices against the other's planes; a plane with every vertex
+ * of the other body in front of it parts them, and its code is the separation hint. */
+POLY_INLINE int poly_clip_convex_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *xb,
+                                         const double *rotation, const double *translation, double flush,
+                                         poly_clip_accumulator *acc, poly_clip_result *out)
+{
+  double planes_b[4 * POLY_CLIP_MAX_PLANES];
+  unsigned front_a[POLY_CLIP_MAX_VERTICES], front_b[POLY_CLIP_MAX_VERTICES], parting = 0;
+  const int fa = a->num_faces, fb = b->num_faces;
   for (int f = 0; f < fb; f++) {
     double *plane = planes_b + 4 * f;
     poly_matrix_apply(rotation, b->planes + 4 * f, plane);
     plane[3] = b->planes[4 * f + 3] + plane[0] * translation[0] + plane[1] * translation[1] + plane[2] * translation[2];
   }
-  out->volume = out->depth = out->area = out->projected_area = 0.0;
-  out->num_nodes = 0;
-  out->separating = -1;
-  for (int e = 0; e < 6; e++) out->second_moment[e] = 0.0;
-  /* Each body's vertices against the other's planes; a plane with every vertex of the other body in front of it
-   * parts them, and its code is the separation hint. */
-  unsigned parting = 0;
-  if (!poly_clip_sides(xb, nb, a->planes, fa, flush, front_b, &parting)) return 0;
+  if (!poly_clip_sides(xb, b->num_vertices, a->planes, fa, flush, front_b, &parting)) return 0;
   if (parting) {
     out->separating = a->triangle[poly_clip_lowest_bit(parting)] << 1;
     return 1;
   }
-  if (!poly_clip_sides(a->vertices, na, planes_b, fb, flush, front_a, &parting)) return 0;
+  if (!poly_clip_sides(a->vertices, a->num_vertices, planes_b, fb, flush, front_a, &parting)) return 0;
   if (parting) {
     out->separating = (b->triangle[poly_clip_lowest_bit(parting)] << 1) | 1;
     return 1;
   }
-
-  double nodes[3 * POLY_CLIP_MAX_NODES];
-  int counts[2 * POLY_CLIP_MAX_FACES], num_nodes = 0, num_polygons = 0;
-  if (!poly_clip_body(b, xb, a->planes, fa, front_b, 0, nodes, &num_nodes, counts, &num_polygons) ||
-      !poly_clip_body(a, a->vertices, planes_b, fb, front_a, 1, nodes, &num_nodes, counts, &num_polygons))
-    return 0;
-  if (num_nodes == 0) return 1;
-  /* Sums from a corner of the intersection, so shallow overlaps lose no digits to a distant origin. */
-  double reference[3] = {nodes[0], nodes[1], nodes[2]};
-  for (int p = 0; p < num_nodes; p++)
-    for (int k = 0; k < 3; k++) nodes[3 * p + k] -= reference[k];
-  poly_clip_sums sums;
-  sums.volume6 = sums.area = 0.0;
-  for (int k = 0; k < 3; k++) sums.moment24[k] = sums.area_vector[k] = 0.0;
-  for (int e = 0; e < 6; e++) sums.second120[e] = 0.0;
-  sums.want_second = want_second;
-  for (int q = 0, first = 0; q < num_polygons; q++) {
-    int n = counts[q] < 0 ? -counts[q] : counts[q];
-    poly_clip_add_polygon(nodes + 3 * first, n, counts[q] < 0, &sums);
-    first += n;
+  for (int pass = 0; pass < 2; pass++) {
+    poly_clip_body(b, xb, a->planes, fa, front_b, 0, acc);
+    poly_clip_body(a, a->vertices, planes_b, fb, front_a, 1, acc);
+    if (pass == 0 && poly_clip_finish(acc, translation, out)) return 1;
   }
-  double volume = sums.volume6 / 6.0;
-  if (!(volume > 0.0)) return 1;
-  out->volume = volume;
-  out->num_nodes = num_nodes;
-  double from_reference[3];
-  for (int k = 0; k < 3; k++) {
-    from_reference[k] = sums.moment24[k] / (24.0 * volume);
-    out->centroid[k] = from_reference[k] + reference[k];
-  }
-  out->area = sums.area;
-  if (want_second) {
-    for (int e = 0; e < 6; e++) out->second_moment[e] = sums.second120[e] / 120.0;
-    poly_second_moment_to_centroid(out->second_moment, volume, from_reference);
-  }
-  /* Normal (eq. 4.19): A's surface inside B; the centre line when it sums to nothing. */
-  double length = sqrt(sums.area_vector[0] * sums.area_vector[0] + sums.area_vector[1] * sums.area_vector[1] +
-                       sums.area_vector[2] * sums.area_vector[2]);
-  out->projected_area = length;
-  if (length > 1e-9 * sums.area && length > 0.0) {
-    for (int k = 0; k < 3; k++) out->normal[k] = sums.area_vector[k] / length;
-  } else {
-    double t = sqrt(translation[0] * translation[0] + translation[1] * translation[1] + translation[2] * translation[2]);
-    for (int k = 0; k < 3; k++) out->normal[k] = t > 0.0 ? translation[k] / t : (k == 2 ? 1.0 : 0.0);
-  }
-  double low = 1e300, high = -1e300;
-  for (int p = 0; p < num_nodes; p++) {
-    const double *x = nodes + 3 * p;
-    double along = out->normal[0] * x[0] + out->normal[1] * x[1] + out->normal[2] * x[2];
-    low = along < low ? along : low;
-    high = along > high ? along : high;
-  }
-  out->depth = high > low ? high - low : 0.0;
+  poly_clip_finish_depth(acc, out);
   return 1;
+}
+
+/* The overlap of A and B, B's body frame taken to A's by `rotation` (row-major) and `translation`. Returns 1
+ * with `out` filled (volume 0: apart), or 0 when the pair must take the general path (flush faces). */
+POLY_INLINE int poly_clip_overlap_of(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
+                                     const double *translation, double size, int want_second, int pieces,
+                                     poly_clip_result *out);
+
+POLY_INLINE int poly_clip_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
+                                  const double *translation, double size, int want_second, poly_clip_result *out)
+{
+  return poly_clip_overlap_of(a, b, rotation, translation, size, want_second, 1, out);
+}
+
+/* As poly_clip_overlap; with `pieces` 0 (a constant, so that a GPU kernel for convex shapes carries no stack for
+ * pieces) pairs of shapes with several pieces are handed back. */
+POLY_INLINE int poly_clip_overlap_of(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
+                                     const double *translation, double size, int want_second, int pieces,
+                                     poly_clip_result *out)
+{
+  if (!pieces && (a->num_pieces != 1 || b->num_pieces != 1)) return 0;
+  double xb[3 * POLY_CLIP_MAX_VERTICES];
+  poly_clip_accumulator acc;
+  const double flush = POLY_CLIP_FLUSH * size;
+  for (int v = 0; v < b->num_vertices; v++) {
+    poly_matrix_apply(rotation, b->vertices + 3 * v, xb + 3 * v);
+    for (int k = 0; k < 3; k++) xb[3 * v + k] += translation[k];
+  }
+  out->volume = out->depth = out->area = out->projected_area = 0.0;
+  out->num_nodes = 0;
+  out->separating = -1;
+  for (int e = 0; e < 6; e++) out->second_moment[e] = 0.0;
+  poly_clip_accumulator_start(&acc, want_second);
+  if (a->num_pieces == 1 && b->num_pieces == 1)
+    return poly_clip_convex_overlap(a, b, xb, rotation, translation, flush, &acc, out);
+  return poly_clip_pieces_overlap(a, b, xb, rotation, translation, flush, &acc, out);
 }
 
 #endif

@@ -1,6 +1,8 @@
 /* Convex shapes and their faces, found once when a shape is built, for the
- * convex path of the overlap (poly_overlap_convex_impl.h), and the supporting
- * triangles of any shape (the separation test of overlap_pass). */
+ * convex path of the overlap (poly_overlap_convex_impl.h), the supporting
+ * triangles of any shape (the separation test of overlap_pass), and the
+ * convex pieces of shapes that are not convex, for the clipping path
+ * (poly_clip.h). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -50,7 +52,7 @@ static poly_status find_clip_faces(poly_shape *shape)
   const int nt = shape->num_triangles, nv = shape->num_vertices, ne = shape->num_edges;
   int num_faces = 0;
   for (int t = 0; t < nt; t++) num_faces += shape->face_of[t] == t;
-  if (num_faces > POLY_CLIP_MAX_FACES || nv > POLY_CLIP_MAX_VERTICES) return POLY_OK;
+  if (num_faces > POLY_CLIP_MAX_PLANES || nv > POLY_CLIP_MAX_VERTICES) return POLY_OK;
   int *next = (int *)malloc(sizeof(int) * (size_t)nv);
   double *planes = (double *)malloc(sizeof(double) * 4 * (size_t)num_faces);
   int *start = (int *)malloc(sizeof(int) * (size_t)(num_faces + 1)), *loop = (int *)malloc(sizeof(int) * 2 * (size_t)ne);
@@ -103,7 +105,247 @@ static poly_status find_clip_faces(poly_shape *shape)
   return status;
 }
 
-poly_status poly_shape_find_faces(poly_shape *shape)
+/* The piece of one convex shape for the clipping path: the shape, behind its faces' planes. */
+static poly_status single_piece(poly_shape *shape)
+{
+  const int nf = shape->num_clip_faces, nv = shape->num_vertices;
+  shape->clip_piece_front = (unsigned long long *)malloc(sizeof(unsigned long long));
+  shape->clip_piece_back = (unsigned long long *)malloc(sizeof(unsigned long long));
+  shape->clip_piece_point_start = (int *)malloc(sizeof(int) * 2);
+  shape->clip_piece_points = (int *)malloc(sizeof(int) * (size_t)nv);
+  shape->clip_piece_face_start = (int *)malloc(sizeof(int) * 2);
+  shape->clip_piece_faces = (int *)malloc(sizeof(int) * (size_t)nf);
+  if (!shape->clip_piece_front || !shape->clip_piece_back || !shape->clip_piece_point_start ||
+      !shape->clip_piece_points || !shape->clip_piece_face_start || !shape->clip_piece_faces)
+    return POLY_ERROR_MEMORY;
+  shape->clip_piece_front[0] = (1ull << nf) - 1ull;
+  shape->clip_piece_back[0] = 0ull;
+  shape->clip_piece_point_start[0] = shape->clip_piece_face_start[0] = 0;
+  shape->clip_piece_point_start[1] = nv;
+  shape->clip_piece_face_start[1] = nf;
+  for (int v = 0; v < nv; v++) shape->clip_piece_points[v] = v;
+  for (int f = 0; f < nf; f++) shape->clip_piece_faces[f] = f;
+  shape->num_clip_planes = nf;
+  shape->num_clip_pieces = 1;
+  return POLY_OK;
+}
+
+static int add_plane(double *planes, int count, const double *n, double offset)
+{
+  for (int k = 0; k < count; k++) {
+    const double *q = planes + 4 * k;
+    if (n[0] * q[0] + n[1] * q[1] + n[2] * q[2] > 1.0 - 1e-14 && fabs(offset - q[3]) < 1e-14 * (1.0 + fabs(offset)))
+      return count;  /* the same plane twice (coplanar triangles, or boundary edges in line with the apex) */
+  }
+  if (count == POLY_CLIP_MAX_PLANES) return count + 1;
+  double *q = planes + 4 * count;
+  q[0] = n[0], q[1] = n[1], q[2] = n[2], q[3] = offset;
+  return count + 1;
+}
+
+/* The cone from the origin (the centre of mass) over the triangles with in_patch set: its planes into
+ * `planes` (the triangles' planes and one through the origin per boundary edge of the patch), their count
+ * returned, or 0 when the cone is not convex to `tolerance` or needs more than POLY_CLIP_MAX_PLANES planes. */
+static int cone_planes(const poly_shape *shape, const unsigned char *in_patch, const int *neighbour,
+                       double tolerance, double *planes)
+{
+  const int nt = shape->num_triangles;
+  const double *x = shape->vertices;
+  int count = 0;
+  for (int t = 0; t < nt && count <= POLY_CLIP_MAX_PLANES; t++) {
+    if (!in_patch[t]) continue;
+    const double *n = shape->face_normals + 3 * t, *corner = x + 3 * shape->triangles[3 * t];
+    count = add_plane(planes, count, n, n[0] * corner[0] + n[1] * corner[1] + n[2] * corner[2]);
+    for (int c = 0; c < 3 && count <= POLY_CLIP_MAX_PLANES; c++) {
+      if (in_patch[neighbour[3 * t + c]]) continue;
+      /* Boundary edge u -> v of triangle t: the side (origin, v, u), outward. */
+      const double *u = x + 3 * shape->triangles[3 * t + c], *v = x + 3 * shape->triangles[3 * t + (c + 1) % 3];
+      double side[3] = {v[1] * u[2] - v[2] * u[1], v[2] * u[0] - v[0] * u[2], v[0] * u[1] - v[1] * u[0]};
+      double length = sqrt(side[0] * side[0] + side[1] * side[1] + side[2] * side[2]);
+      if (!(length > 1e-9 * shape->bounding_radius * shape->bounding_radius)) return 0;
+      for (int k = 0; k < 3; k++) side[k] /= length;
+      count = add_plane(planes, count, side, 0.0);
+    }
+  }
+  if (count > POLY_CLIP_MAX_PLANES) return 0;
+  /* Convex: the apex and every corner of the patch on or behind every plane. */
+  for (int k = 0; k < count; k++) {
+    const double *q = planes + 4 * k;
+    if (-q[3] > tolerance) return 0;
+    for (int t = 0; t < nt; t++) {
+      if (!in_patch[t]) continue;
+      for (int c = 0; c < 3; c++) {
+        const double *p = x + 3 * shape->triangles[3 * t + c];
+        if (q[0] * p[0] + q[1] * p[1] + q[2] * p[2] - q[3] > tolerance) return 0;
+      }
+    }
+  }
+  return count;
+}
+
+/* Index of the plane (n, offset) in the shape's `planes` (count of them), added when new; its side through
+ * `opposite` (1 when the stored plane faces the other way); -1 when POLY_CLIP_MAX_SHAPE_PLANES are taken. */
+static int shape_plane(double *planes, int *count, const double *plane, int *opposite)
+{
+  for (int k = 0; k < *count; k++) {
+    const double *q = planes + 4 * k;
+    double cosine = plane[0] * q[0] + plane[1] * q[1] + plane[2] * q[2];
+    if (cosine > 1.0 - 1e-14 && fabs(plane[3] - q[3]) < 1e-14 * (1.0 + fabs(q[3]))) {
+      *opposite = 0;
+      return k;
+    }
+    if (cosine < -1.0 + 1e-14 && fabs(plane[3] + q[3]) < 1e-14 * (1.0 + fabs(q[3]))) {
+      *opposite = 1;
+      return k;
+    }
+  }
+  if (*count == POLY_CLIP_MAX_SHAPE_PLANES) return -1;
+  for (int c = 0; c < 4; c++) planes[4 * *count + c] = plane[c];
+  *opposite = 0;
+  return (*count)++;
+}
+
+/* Convex pieces of a shape that is not convex: when every triangle's plane has the centre of mass (the origin)
+ * behind it by a millionth of the size, the cones from it over the triangles tile the shape; neighbouring
+ * cones are merged, greedily, while their union stays convex with at most POLY_CLIP_MAX_PLANES planes. The
+ * shape's faces for the clipping path are then its triangles. Leaves the shape without pieces (not an error)
+ * when it is not star-shaped from its centre or needs more pieces, planes, faces or vertices than the path
+ * takes. */
+static poly_status find_pieces(poly_shape *shape)
+{
+  const int nt = shape->num_triangles, nv = shape->num_vertices, ne = shape->num_edges;
+  const double radius = shape->bounding_radius, tolerance = 1e-12 * radius;
+  if (nt > POLY_CLIP_MAX_FACES || nv > POLY_CLIP_MAX_VERTICES) return POLY_OK;
+  for (int t = 0; t < nt; t++) {
+    const double *n = shape->face_normals + 3 * t, *corner = shape->vertices + 3 * shape->triangles[3 * t];
+    if (n[0] * corner[0] + n[1] * corner[1] + n[2] * corner[2] < 1e-6 * radius) return POLY_OK;
+  }
+  double scratch[4 * POLY_CLIP_MAX_PLANES];
+  int *neighbour = (int *)malloc(sizeof(int) * 3 * (size_t)nt), *piece_of = (int *)malloc(sizeof(int) * (size_t)nt);
+  unsigned char *in_patch = (unsigned char *)calloc((size_t)nt, 1), *seen = (unsigned char *)calloc((size_t)nv, 1);
+  double *planes = (double *)malloc(sizeof(double) * 4 * POLY_CLIP_MAX_SHAPE_PLANES);
+  unsigned long long *front = (unsigned long long *)calloc(POLY_CLIP_MAX_PIECES, sizeof(unsigned long long));
+  unsigned long long *back = (unsigned long long *)calloc(POLY_CLIP_MAX_PIECES, sizeof(unsigned long long));
+  int *point_start = (int *)malloc(sizeof(int) * (POLY_CLIP_MAX_PIECES + 1));
+  int *points = (int *)malloc(sizeof(int) * (size_t)(3 * nt + POLY_CLIP_MAX_PIECES));
+  int *face_start = (int *)malloc(sizeof(int) * (POLY_CLIP_MAX_PIECES + 1)), *faces = (int *)malloc(sizeof(int) * (size_t)nt);
+  int *loop_start = (int *)malloc(sizeof(int) * ((size_t)nt + 1)), *loop = (int *)malloc(sizeof(int) * 3 * (size_t)nt);
+  int *triangle = (int *)malloc(sizeof(int) * (size_t)nt);
+  poly_status status = POLY_OK;
+  int num_pieces = 0, num_planes = 0, ok = 1;
+  if (!neighbour || !piece_of || !in_patch || !seen || !planes || !front || !back || !point_start || !points ||
+      !face_start || !faces || !loop_start || !loop || !triangle) {
+    status = POLY_ERROR_MEMORY;
+    ok = 0;
+  }
+  /* Across corner c's edge (c -> c + 1) of each triangle, its neighbour. */
+  for (int e = 0; ok && e < ne; e++) {
+    int a = shape->edges[2 * e], b = shape->edges[2 * e + 1];
+    int t0 = shape->edge_triangles[2 * e], t1 = shape->edge_triangles[2 * e + 1];
+    for (int side = 0; side < 2; side++) {
+      int t = side ? t1 : t0, other = side ? t0 : t1;
+      for (int c = 0; c < 3; c++) {
+        int u = shape->triangles[3 * t + c], v = shape->triangles[3 * t + (c + 1) % 3];
+        if ((u == a && v == b) || (u == b && v == a)) neighbour[3 * t + c] = other;
+      }
+    }
+  }
+  for (int t = 0; ok && t < nt; t++) piece_of[t] = -1;
+  point_start[0] = face_start[0] = 0;
+  for (int seed = 0; ok && seed < nt; seed++) {
+    if (piece_of[seed] >= 0) continue;
+    if (num_pieces == POLY_CLIP_MAX_PIECES) {
+      ok = 0;
+      break;
+    }
+    for (int t = 0; t < nt; t++) in_patch[t] = 0;
+    in_patch[seed] = 1;
+    piece_of[seed] = num_pieces;
+    if (!cone_planes(shape, in_patch, neighbour, tolerance, scratch)) {
+      ok = 0;
+      break;
+    }
+    for (int grew = 1; grew;) {
+      grew = 0;
+      for (int t = 0; t < nt; t++) {
+        if (!in_patch[t]) continue;
+        for (int c = 0; c < 3; c++) {
+          int u = neighbour[3 * t + c];
+          if (piece_of[u] >= 0) continue;
+          in_patch[u] = 1;
+          if (cone_planes(shape, in_patch, neighbour, tolerance, scratch)) {
+            piece_of[u] = num_pieces;
+            grew = 1;
+          } else {
+            in_patch[u] = 0;
+          }
+        }
+      }
+    }
+    /* The piece's planes among the shape's, its corners (the apex first) and its faces. */
+    int count = cone_planes(shape, in_patch, neighbour, tolerance, scratch);
+    for (int k = 0; k < count && ok; k++) {
+      int opposite, index = shape_plane(planes, &num_planes, scratch + 4 * k, &opposite);
+      if (index < 0) ok = 0;
+      else if (opposite) back[num_pieces] |= 1ull << index;
+      else front[num_pieces] |= 1ull << index;
+    }
+    int num_points = point_start[num_pieces], num_faces = face_start[num_pieces];
+    points[num_points++] = nv;
+    for (int v = 0; v < nv; v++) seen[v] = 0;
+    for (int t = 0; t < nt; t++) {
+      if (!in_patch[t]) continue;
+      faces[num_faces++] = t;
+      for (int c = 0; c < 3; c++) {
+        int v = shape->triangles[3 * t + c];
+        if (!seen[v]) points[num_points++] = v;
+        seen[v] = 1;
+      }
+    }
+    point_start[num_pieces + 1] = num_points;
+    face_start[num_pieces + 1] = num_faces;
+    num_pieces++;
+  }
+  if (ok && num_pieces > 1) {
+    for (int t = 0; t < nt; t++) {
+      loop_start[t] = 3 * t;
+      for (int c = 0; c < 3; c++) loop[3 * t + c] = shape->triangles[3 * t + c];
+      triangle[t] = t;
+    }
+    loop_start[nt] = 3 * nt;
+    shape->clip_planes = planes;
+    shape->num_clip_planes = num_planes;
+    shape->clip_loop_start = loop_start;
+    shape->clip_loop = loop;
+    shape->clip_face_triangle = triangle;
+    shape->num_clip_faces = nt;
+    shape->clip_piece_front = front;
+    shape->clip_piece_back = back;
+    shape->clip_piece_point_start = point_start;
+    shape->clip_piece_points = points;
+    shape->clip_piece_face_start = face_start;
+    shape->clip_piece_faces = faces;
+    shape->num_clip_pieces = num_pieces;
+  } else {
+    free(planes);
+    free(loop_start);
+    free(loop);
+    free(triangle);
+    free(front);
+    free(back);
+    free(point_start);
+    free(points);
+    free(face_start);
+    free(faces);
+  }
+  free(neighbour);
+  free(piece_of);
+  free(in_patch);
+  free(seen);
+  return status;
+}
+
+void poly_shape_free_faces(poly_shape *shape)
 {
   free(shape->face_of);
   free(shape->ridges);
@@ -112,10 +354,23 @@ poly_status poly_shape_find_faces(poly_shape *shape)
   free(shape->clip_loop_start);
   free(shape->clip_loop);
   free(shape->clip_face_triangle);
+  free(shape->clip_piece_front);
+  free(shape->clip_piece_back);
+  free(shape->clip_piece_point_start);
+  free(shape->clip_piece_points);
+  free(shape->clip_piece_face_start);
+  free(shape->clip_piece_faces);
   shape->face_of = shape->ridges = shape->support = NULL;
   shape->clip_planes = NULL;
   shape->clip_loop_start = shape->clip_loop = shape->clip_face_triangle = NULL;
-  shape->num_ridges = shape->num_support = shape->num_clip_faces = 0;
+  shape->clip_piece_front = shape->clip_piece_back = NULL;
+  shape->clip_piece_point_start = shape->clip_piece_points = shape->clip_piece_face_start = shape->clip_piece_faces = NULL;
+  shape->num_ridges = shape->num_support = shape->num_clip_faces = shape->num_clip_planes = shape->num_clip_pieces = 0;
+}
+
+poly_status poly_shape_find_faces(poly_shape *shape)
+{
+  poly_shape_free_faces(shape);
   const int nt = shape->num_triangles, nv = shape->num_vertices, ne = shape->num_edges;
   /* Convex: every vertex on or behind every face's plane, to 1e-12 of the size (a shape that much from
    * convex differs from the intersection of its faces' half-spaces by less than the rounding of the
@@ -125,7 +380,7 @@ poly_status poly_shape_find_faces(poly_shape *shape)
   if (!shape->support) return POLY_ERROR_MEMORY;
   for (int t = 0; t < nt; t++)
     if (supports(shape, t, tolerance)) shape->support[shape->num_support++] = t;
-  if (shape->num_support < nt) return POLY_OK;
+  if (shape->num_support < nt) return find_pieces(shape);
   int *parent = (int *)malloc(sizeof(int) * (size_t)nt), *on_ridge = (int *)calloc((size_t)nv, sizeof(int));
   int *face_of = (int *)malloc(sizeof(int) * (size_t)nt);
   int *ridges = (int *)malloc(sizeof(int) * (size_t)(ne > 0 ? ne : 1));
@@ -166,5 +421,7 @@ poly_status poly_shape_find_faces(poly_shape *shape)
   shape->face_of = face_of;
   shape->ridges = ridges;
   shape->num_ridges = num_ridges;
-  return find_clip_faces(shape);
+  poly_status status = find_clip_faces(shape);
+  if (status != POLY_OK || shape->num_clip_faces == 0) return status;
+  return single_piece(shape);
 }

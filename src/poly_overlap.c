@@ -32,6 +32,14 @@ poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
   view.clip.loop_start = shape->clip_loop_start;
   view.clip.loop = shape->clip_loop;
   view.clip.triangle = shape->clip_face_triangle;
+  view.clip.num_planes = shape->num_clip_planes;
+  view.clip.num_pieces = shape->num_clip_pieces;
+  view.clip.piece_front = shape->clip_piece_front;
+  view.clip.piece_back = shape->clip_piece_back;
+  view.clip.piece_point_start = shape->clip_piece_point_start;
+  view.clip.piece_points = shape->clip_piece_points;
+  view.clip.piece_face_start = shape->clip_piece_face_start;
+  view.clip.piece_faces = shape->clip_piece_faces;
   return view;
 }
 

@@ -983,12 +983,6 @@ void poly_shape_free(poly_shape *shape)
   free(shape->edge_triangles);
   free(shape->vertex_triangle_offsets);
   free(shape->vertex_triangles);
-  free(shape->face_of);
-  free(shape->ridges);
-  free(shape->support);
-  free(shape->clip_planes);
-  free(shape->clip_loop_start);
-  free(shape->clip_loop);
-  free(shape->clip_face_triangle);
+  poly_shape_free_faces(shape);
   memset(shape, 0, sizeof *shape);
 }

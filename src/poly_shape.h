@@ -86,14 +86,22 @@ typedef struct poly_shape {
    * for a convex shape). */
   int *support;
   int num_support;
-  /* Convex shapes of at most POLY_CLIP_MAX_FACES faces (poly_clip.h; NULL, 0 otherwise): per face its plane
-   * (unit outward normal and offset, 4 each) and its corners in order, counter-clockwise seen from outside
+  /* The clipping path's shapes (poly_clip.h; NULL, 0 otherwise): convex shapes of at most POLY_CLIP_MAX_PLANES
+   * faces, and shapes that are not convex but star-shaped from their centre of mass that split into at most
+   * POLY_CLIP_MAX_PIECES convex pieces (their faces are their triangles). Per face its plane (unit outward
+   * normal and offset, 4 each) and its corners in order, counter-clockwise seen from outside
    * (clip_loop[clip_loop_start[f] ...]). */
   double *clip_planes;
   int *clip_loop_start;
   int *clip_loop;
   int *clip_face_triangle;  /* per face its lowest triangle */
   int num_clip_faces;
+  /* The convex pieces (poly_clip_faces): clip_planes holds num_clip_planes planes, the faces' first for a
+   * convex shape (one piece); per piece the masks of the planes it lies behind and in front of, its corners
+   * (vertex indices, num_vertices for the centre of mass) and its faces, each a CSR list. */
+  int num_clip_planes, num_clip_pieces;
+  unsigned long long *clip_piece_front, *clip_piece_back;
+  int *clip_piece_point_start, *clip_piece_points, *clip_piece_face_start, *clip_piece_faces;
 } poly_shape;
 
 /* Reads a mesh; the format is chosen by extension (.stl, .obj, .off, any case).
@@ -127,6 +135,9 @@ poly_status poly_shape_load(const char *path, double scale, poly_shape *shape,
 /* Fills support, and face_of and ridges when the shape is convex (to 1e-12 of its size) and every vertex
  * lies on a ridge (NULL otherwise). Called by poly_shape_build. */
 poly_status poly_shape_find_faces(poly_shape *shape);
+
+/* Frees what poly_shape_find_faces made (poly_shape_free does this too). */
+void poly_shape_free_faces(poly_shape *shape);
 
 void poly_shape_free(poly_shape *shape);
 

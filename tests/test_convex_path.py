@@ -21,9 +21,13 @@ and most contacts not.
 
 Run with Debian's python3:  /usr/bin/python3 -m pytest tests/test_convex_path.py -q
 """
+import os
+import shutil
+import subprocess
+
 import pytest
 
-from test_records_path import driver, run  # noqa: F401  (the fixture builds tests/unit/records_paths.c)
+from test_records_path import ROOT, driver, run  # noqa: F401  (the fixture builds tests/unit/records_paths.c)
 
 CONVEX_SHAPES = ["cube.stl", "box_1x2x3.off", "tetrahedron.obj", "icosphere_80.off"]
 TOLERANCE = {"double": {"volume": 1e-13, "centroid": 1e-13, "normal": 1e-13, "area": 1e-13, "depth": 1e-13,
@@ -75,8 +79,50 @@ def test_clipping_path_agrees_with_the_general_path(driver, shape):  # noqa: F81
     assert values["smoothed"] <= values["fallbacks"] <= 0.25 * values["poses"]
 
 
+@pytest.mark.parametrize("shape", ["schoenhardt.stl", "rock_10.obj", "rock_20.obj"])
+def test_pieces_path_agrees_with_the_general_path(driver, shape):  # noqa: F811
+    """Shapes that are not convex take the clipping path through convex pieces (cones from the centre of mass over
+    patches of the surface, src/poly_convex.c): each body's faces clipped by each of the other's pieces that no
+    plane parts from one of its own. Against the general records path on the same poses and tolerances as the
+    convex shapes above. The pieces' inner planes widen the flush band (identical bodies at the same
+    orientation put vertices on them), so more pairs go to the general path, still few."""
+    values, log = run(driver, shape, 2000, "double", capacity="clip")
+    assert values["clip_faces"] >= 8 and values["clip_pieces"] >= 2 and values["overlapping"] >= 800
+    for quantity, limit in CLIP_TOLERANCE.items():
+        assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
+    assert values["flag_differences"] == 0 and values["wrongly_filtered"] == 0, log
+    assert values["smoothed"] <= values["fallbacks"] <= 0.1 * values["poses"]
+
+
+@pytest.fixture(scope="module")
+def few_nodes_driver(tmp_path_factory):
+    """records_paths with room for 12 polygon corners, so most overlaps find their depth in the clipping path's
+    second pass (the extent along the normal, clipped again) rather than from the kept corners."""
+    if not shutil.which("gcc"):
+        pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
+    binary = str(tmp_path_factory.mktemp("few_nodes") / "records_paths")
+    sources = [os.path.join(ROOT, "tests", "unit", "records_paths.c")] + [
+        os.path.join(ROOT, "src", name) for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c")]
+    subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-DPOLY_CLIP_MAX_NODES=12",
+                    "-I" + os.path.join(ROOT, "src")] + sources + ["-lm", "-o", binary], check=True)
+    return binary
+
+
+@pytest.mark.parametrize("shape", ["cube.stl", "schoenhardt.stl"])
+def test_clipping_depth_pass_when_corners_overflow(few_nodes_driver, driver, shape):  # noqa: F811
+    """The same comparison with the corners' buffer cut to 12: the depth from the second pass must agree with
+    the general path as closely, and the whole result with the full buffer's to rounding."""
+    values, log = run(few_nodes_driver, shape, 1000, "double", capacity="clip")
+    full, _ = run(driver, shape, 1000, "double", capacity="clip")
+    for quantity, limit in CLIP_TOLERANCE.items():
+        assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
+    assert values["depth"] <= max(2 * full["depth"], 1e-15)
+    assert values["fallbacks"] == full["fallbacks"]
+
+
 def test_shapes_beyond_the_clipping_path_keep_the_others(driver):  # noqa: F811
-    """icosphere_80 (80 faces) is convex but has more faces than the clipping path takes; rock_40 is not convex."""
+    """icosphere_80 (80 faces, 42 vertices) is convex but has more faces than one piece and more vertices than the
+    clipping path takes; rock_40 is not convex and its pieces need more than 64 planes."""
     for shape in ("icosphere_80.off", "rock_40.obj"):
         values, _ = run(driver, shape, 10, "double", capacity="clip")
-        assert values["clip_faces"] == 0
+        assert values["clip_faces"] == 0 and values["clip_pieces"] == 0

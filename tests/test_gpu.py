@@ -95,6 +95,7 @@ def test_gpu_style_without_gpu_is_a_clear_error(run_deck):
     ("POLY_GPU_PAIR_KERNEL", "fast", "POLY_GPU_PAIR_KERNEL=fast: expected thread or warp"),
     ("POLY_GPU_PAIR_LANES", "12", "POLY_GPU_PAIR_LANES=12: expected 8, 16 or 32"),
     ("POLY_GPU_WALL_KERNEL", "lanes", "POLY_GPU_WALL_KERNEL=lanes: expected thread or warp"),
+    ("POLY_GPU_CLIP_KERNEL", "block", "POLY_GPU_CLIP_KERNEL=block: expected thread or warp"),
     ("POLY_GPU_MIN_PAIRS", "-3", "POLY_GPU_MIN_PAIRS=-3: expected a whole number, 0 or more"),
     ("POLY_GPU_MIN_PIECES", "1e3", "POLY_GPU_MIN_PIECES=1e3: expected a whole number, 0 or more")])
 def test_bad_contact_kernel_choice_is_a_clear_error(run_deck, monkeypatch, variable, value, expected):
@@ -159,6 +160,21 @@ def test_both_contact_kernels_agree_with_cpu(launcher, kernel, lanes):
         assert handed["cube.stl"] > 0, handed
     else:
         assert not any(handed.values()), handed
+
+
+@needs_gpu
+@pytest.mark.parametrize("kernel", ["thread", "warp"])
+def test_both_clipping_kernels_agree_with_cpu(launcher, kernel):
+    """The clipping path's two kernels (doc/gpu.md, "Clipping kernels"), each forced by POLY_GPU_CLIP_KERNEL, for
+    the shapes that have clip faces (cube, tetrahedron, box; Schoenhardt polyhedra and rock_10 through their
+    convex pieces) against the host code in double, 2000 pairs per shape (1 in 8 with flush faces, which both
+    hand to the one-thread kernel)."""
+    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
+                          "2000", "double"], capture_output=True, text=True,
+                         env=dict(os.environ, POLY_GPU_CLIP_KERNEL=kernel))
+    print(run.stdout)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.strip().endswith("OK")
 
 
 def thousand_particles(seed=3):

@@ -1,0 +1,282 @@
+/* The clipping path (src/poly_clip.h) with one warp per pair, in double: the
+ * same pieces, masks, clipping and sums as the host's poly_clip_overlap, with
+ * the loops spread over the lanes instead of one thread running them all (the
+ * one-thread clip_contact_kernel's warps idle most lanes while one thread
+ * clips many polygons; a pair of Schoenhardt polyhedra clips 20-30 faces):
+ *
+ * 1. B's points and planes into A's frame, and every point's sides of the
+ *    other body's planes, a point per lane;
+ * 2. the pairs of pieces that no plane of either parts, a pair per lane, and
+ *    their faces to clip as one list of items (face, side, other piece);
+ * 3. an item per lane: the face clipped by the other body's piece, its
+ *    polygon summed from a common corner (the first item's polygon's first
+ *    corner, as on the host) and its corners kept in the warp's block;
+ * 4. the lanes' sums added in a fixed tree (runs repeat bit for bit), the
+ *    normal, and the depth over the kept corners (or a second clipping pass
+ *    for the extent when they did not fit).
+ *
+ * Pairs it does not take (flush faces, more items than its block holds) go to
+ * the one-thread kernel, as from clip_contact_kernel. Included by poly_gpu.cu. */
+#ifndef POLY_GPU_CLIP_WARP_CUH
+#define POLY_GPU_CLIP_WARP_CUH
+
+#ifndef POLY_CLIP_WARPS
+#define POLY_CLIP_WARPS 4          /* warps (pairs) per block */
+#endif
+#ifndef POLY_CLIP_WARP_MIN_BLOCKS
+#define POLY_CLIP_WARP_MIN_BLOCKS 4 /* blocks per SM the registers are sized for (doc/benchmarks.md) */
+#endif
+#define POLY_CLIP_WARP_ITEMS 128   /* faces to clip per pair */
+#define POLY_CLIP_WARP_NODES 64    /* corners kept for the depth per pair */
+#define POLY_CLIP_WARP_POLYGON 12  /* corners of a clipped face (a lane's work buffers are in local memory) */
+
+/* What one warp's block of shared memory holds, sized for the uploaded shapes. */
+struct ClipWarpLimits {
+  int vertices, planes, pieces;
+  size_t bytes;
+};
+
+struct ClipWarpMemory {
+  double *xb, *planes_b, *nodes;
+  poly_clip_mask *ahead_a, *behind_a, *ahead_b, *behind_b;
+  poly_clip_mask *piece_ahead_a, *piece_behind_a, *piece_ahead_b, *piece_behind_b;
+  int *items;
+};
+
+/* Bytes of one warp's block for `limits`; with `m` and `memory`, points m's arrays into the block. */
+static __host__ __device__ inline size_t clip_warp_layout(ClipWarpMemory *m, char *memory, const ClipWarpLimits &limits)
+{
+  const size_t points = (size_t)limits.vertices + 1;
+  size_t doubles = 3 * points + 4 * (size_t)limits.planes + 3 * POLY_CLIP_WARP_NODES;
+  size_t masks = 4 * points + 4 * (size_t)limits.pieces;
+  size_t bytes = sizeof(double) * doubles + sizeof(poly_clip_mask) * masks + sizeof(int) * POLY_CLIP_WARP_ITEMS;
+  bytes = (bytes + 15) / 16 * 16;
+  if (!m || !memory) return bytes;
+  double *d = (double *)memory;
+  m->xb = d; d += 3 * points;
+  m->planes_b = d; d += 4 * limits.planes;
+  m->nodes = d; d += 3 * POLY_CLIP_WARP_NODES;
+  poly_clip_mask *k = (poly_clip_mask *)d;
+  m->ahead_a = k; k += points;
+  m->behind_a = k; k += points;
+  m->ahead_b = k; k += points;
+  m->behind_b = k; k += points;
+  m->piece_ahead_a = k; k += limits.pieces;
+  m->piece_behind_a = k; k += limits.pieces;
+  m->piece_ahead_b = k; k += limits.pieces;
+  m->piece_behind_b = k; k += limits.pieces;
+  m->items = (int *)k;
+  return bytes;
+}
+
+/* Item: a face of one body, which body (of_a), and the other body's piece that clips it. */
+static __device__ __forceinline__ int clip_item(int face, int of_a, int piece)
+{
+  return (piece << 8) | (of_a << 7) | face;
+}
+
+/* Item `item`'s face clipped by its piece (poly_clip_face_by_piece): the corner count, -1 when the polygon could
+ * outgrow the lane's work buffers, and in *result the buffer holding the corners. */
+static __device__ __forceinline__ int clip_warp_item(int item, const poly_clip_faces &a, const poly_clip_faces &b,
+                                                     const ClipWarpMemory &m, double (*work)[3 * POLY_CLIP_WARP_POLYGON],
+                                                     double **result)
+{
+  const int face = item & 127, of_a = (item >> 7) & 1, piece = item >> 8;
+  const poly_clip_faces &other = of_a ? b : a;
+  return poly_clip_face_by_piece(of_a ? &a : &b, face, of_a ? a.vertices : m.xb, of_a ? m.ahead_a : m.ahead_b,
+                                 of_a ? m.behind_a : m.behind_b, of_a ? m.planes_b : a.planes,
+                                 other.piece_front[piece], other.piece_back[piece], work[0], work[1],
+                                 POLY_CLIP_WARP_POLYGON, result);
+}
+
+/* The overlap of pair (a, b) on the calling warp; returns 1 when the pair must go to the one-thread kernel. */
+static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_clip_faces &b, const double *rotation,
+                                        const double *translation, double size, int want_second, const ClipWarpMemory &m,
+                                        poly_clip_result *out)
+{
+  const unsigned full = 0xffffffffu;
+  const int lane = threadIdx.x & 31, na = a.num_vertices, nb = b.num_vertices;
+  const double flush = POLY_CLIP_FLUSH * size;
+  out->volume = out->depth = out->area = out->projected_area = 0.0;
+  out->num_nodes = 0;
+  out->separating = -1;
+  for (int e = 0; e < 6; e++) out->second_moment[e] = 0.0;
+  // 1. B's points (its centre last) and planes in A's frame; each point's sides of the other body's planes.
+  for (int v = lane; v <= nb; v += 32) {
+    double *x = m.xb + 3 * v;
+    if (v < nb) poly_matrix_apply(rotation, b.vertices + 3 * v, x);
+    else x[0] = x[1] = x[2] = 0.0;
+    for (int k = 0; k < 3; k++) x[k] += translation[k];
+  }
+  for (int f = lane; f < b.num_planes; f += 32) {
+    double *plane = m.planes_b + 4 * f;
+    poly_matrix_apply(rotation, b.planes + 4 * f, plane);
+    plane[3] = b.planes[4 * f + 3] + plane[0] * translation[0] + plane[1] * translation[1] + plane[2] * translation[2];
+  }
+  __syncwarp();
+  // A point per lane: its masks of the other body's planes (a plane per lane with ballots measured slower).
+  int flush_hit = 0;
+  for (int v = lane; v <= nb + 1 + na; v += 32) {
+    const int of_a = v > nb, index = of_a ? v - nb - 1 : v, count = of_a ? na : nb;
+    const double origin[3] = {0.0, 0.0, 0.0};
+    const double *p = of_a ? (index < na ? a.vertices + 3 * index : origin) : m.xb + 3 * index;
+    poly_clip_mask front, back;
+    if (poly_clip_point_sides(p, of_a ? m.planes_b : a.planes, of_a ? b.num_planes : a.num_planes, flush, &front,
+                              &back) &&
+        index < count)
+      flush_hit = 1;
+    (of_a ? m.ahead_a : m.ahead_b)[index] = front;
+    (of_a ? m.behind_a : m.behind_b)[index] = back;
+  }
+  if (__any_sync(full, flush_hit)) return 1;
+  __syncwarp();
+  for (int i = lane; i < a.num_pieces + b.num_pieces; i += 32) {
+    const int of_a = i < a.num_pieces, piece = of_a ? i : i - a.num_pieces;
+    const poly_clip_faces &body = of_a ? a : b;
+    const poly_clip_mask *ahead = of_a ? m.ahead_a : m.ahead_b, *behind = of_a ? m.behind_a : m.behind_b;
+    poly_clip_mask front = ~(poly_clip_mask)0, back = ~(poly_clip_mask)0;
+    for (int q = body.piece_point_start[piece]; q < body.piece_point_start[piece + 1]; q++) {
+      front &= ahead[body.piece_points[q]];
+      back &= behind[body.piece_points[q]];
+    }
+    (of_a ? m.piece_ahead_a : m.piece_ahead_b)[piece] = front;
+    (of_a ? m.piece_behind_a : m.piece_behind_b)[piece] = back;
+  }
+  __syncwarp();
+  // 2. The pairs of pieces no plane parts, in the host's order (A's piece, then B's), and their faces.
+  const int num_pairs = a.num_pieces * b.num_pieces;
+  int num_items = 0;
+  for (int first = 0; first < num_pairs; first += 32) {
+    const int q = first + lane, i = q / b.num_pieces, j = q - i * b.num_pieces;
+    int faces_b = 0, faces_a = 0;
+    if (q < num_pairs &&
+        !((m.piece_ahead_b[j] & a.piece_front[i]) | (m.piece_behind_b[j] & a.piece_back[i]) |
+          (m.piece_ahead_a[i] & b.piece_front[j]) | (m.piece_behind_a[i] & b.piece_back[j]))) {
+      faces_b = b.piece_face_start[j + 1] - b.piece_face_start[j];
+      faces_a = a.piece_face_start[i + 1] - a.piece_face_start[i];
+    }
+    int before = faces_b + faces_a;
+    for (int offset = 1; offset < 32; offset <<= 1) {
+      int other = __shfl_up_sync(full, before, offset);
+      if (lane >= offset) before += other;
+    }
+    const int total = __shfl_sync(full, before, 31);
+    before -= faces_b + faces_a;
+    if (num_items + total > POLY_CLIP_WARP_ITEMS) return 1;
+    int *slot = m.items + num_items + before;
+    for (int t = 0; t < faces_b; t++) slot[t] = clip_item(b.piece_faces[b.piece_face_start[j] + t], 0, i);
+    for (int t = 0; t < faces_a; t++) slot[faces_b + t] = clip_item(a.piece_faces[a.piece_face_start[i] + t], 1, j);
+    num_items += total;
+  }
+  __syncwarp();
+  // 3. An item per lane: clipped, summed from the common corner, its corners kept.
+  double work[2][3 * POLY_CLIP_WARP_POLYGON];
+  poly_clip_sums sums;
+  sums.volume6 = sums.area = 0.0;
+  for (int k = 0; k < 3; k++) sums.moment24[k] = sums.area_vector[k] = 0.0;
+  for (int e = 0; e < 6; e++) sums.second120[e] = 0.0;
+  sums.want_second = want_second;
+  double reference[3] = {0.0, 0.0, 0.0};
+  int have_reference = 0, corners = 0, kept = 0, overflow = 0;
+  for (int first = 0; first < num_items; first += 32) {
+    const int it = first + lane;
+    double *polygon = NULL;
+    const int n = it < num_items ? clip_warp_item(m.items[it], a, b, m, work, &polygon) : 0;
+    if (__any_sync(full, n < 0)) return 1;
+    const unsigned with = __ballot_sync(full, n > 0);
+    if (!with) continue;
+    if (!have_reference) {
+      const int leader = __ffs(with) - 1;
+      for (int k = 0; k < 3; k++) reference[k] = __shfl_sync(full, n > 0 ? polygon[k] : 0.0, leader);
+      have_reference = 1;
+    }
+    for (int c = 0; c < n; c++)
+      for (int k = 0; k < 3; k++) polygon[3 * c + k] -= reference[k];
+    if (n > 0) poly_clip_add_polygon(polygon, n, (m.items[it] >> 7) & 1, &sums);
+    int before = n;
+    for (int offset = 1; offset < 32; offset <<= 1) {
+      int other = __shfl_up_sync(full, before, offset);
+      if (lane >= offset) before += other;
+    }
+    const int total = __shfl_sync(full, before, 31);
+    before -= n;
+    if (kept + total <= POLY_CLIP_WARP_NODES) {
+      for (int c = 0; c < 3 * n; c++) m.nodes[3 * (kept + before) + c] = polygon[c];
+      kept += total;
+    } else {
+      overflow = 1;
+    }
+    corners += total;
+  }
+  // 4. Sums over the lanes, then what the host's poly_clip_finish makes of them.
+  if (corners == 0) return 0;
+  // All 14 sums at once, so the shuffles of one level overlap; a fixed tree, so runs repeat bit for bit.
+  double total[14] = {sums.volume6, sums.moment24[0], sums.moment24[1], sums.moment24[2], sums.area_vector[0],
+                      sums.area_vector[1], sums.area_vector[2], sums.area, sums.second120[0], sums.second120[1],
+                      sums.second120[2], sums.second120[3], sums.second120[4], sums.second120[5]};
+  const int terms = want_second ? 14 : 8;
+  for (int offset = 16; offset > 0; offset >>= 1)
+#pragma unroll
+    for (int t = 0; t < 14; t++)
+      if (t < terms) total[t] += __shfl_down_sync(full, total[t], offset);
+#pragma unroll
+  for (int t = 0; t < 14; t++)
+    if (t < terms) total[t] = __shfl_sync(full, total[t], 0);
+  const double volume = total[0] / 6.0;
+  if (!(volume > 0.0)) return 0;
+  double moment24[3] = {total[1], total[2], total[3]}, area_vector[3] = {total[4], total[5], total[6]};
+  const double area = total[7];
+  const double *second = total + 8;
+  out->volume = volume;
+  out->num_nodes = corners;
+  double from_reference[3];
+  for (int k = 0; k < 3; k++) {
+    from_reference[k] = moment24[k] / (24.0 * volume);
+    out->centroid[k] = from_reference[k] + reference[k];
+  }
+  out->area = area;
+  if (want_second) {
+    for (int e = 0; e < 6; e++) out->second_moment[e] = second[e] / 120.0;
+    poly_second_moment_to_centroid(out->second_moment, volume, from_reference);
+  }
+  const double length = sqrt(area_vector[0] * area_vector[0] + area_vector[1] * area_vector[1] +
+                             area_vector[2] * area_vector[2]);
+  out->projected_area = length;
+  if (length > 1e-9 * area && length > 0.0) {
+    for (int k = 0; k < 3; k++) out->normal[k] = area_vector[k] / length;
+  } else {
+    double t = sqrt(translation[0] * translation[0] + translation[1] * translation[1] + translation[2] * translation[2]);
+    for (int k = 0; k < 3; k++) out->normal[k] = t > 0.0 ? translation[k] / t : (k == 2 ? 1.0 : 0.0);
+  }
+  double low = 1e300, high = -1e300;
+  const double *n3 = out->normal;
+  if (!overflow) {
+    __syncwarp();
+    for (int c = lane; c < kept; c += 32) {
+      const double *x = m.nodes + 3 * c;
+      double along = n3[0] * x[0] + n3[1] * x[1] + n3[2] * x[2];
+      low = fmin(low, along);
+      high = fmax(high, along);
+    }
+  } else {
+    for (int first = 0; first < num_items; first += 32) {
+      const int it = first + lane;
+      double *polygon = NULL;
+      const int n = it < num_items ? clip_warp_item(m.items[it], a, b, m, work, &polygon) : 0;
+      for (int c = 0; c < n; c++) {
+        const double *x = polygon + 3 * c;
+        double along = n3[0] * (x[0] - reference[0]) + n3[1] * (x[1] - reference[1]) + n3[2] * (x[2] - reference[2]);
+        low = fmin(low, along);
+        high = fmax(high, along);
+      }
+    }
+  }
+  for (int offset = 16; offset > 0; offset >>= 1) {
+    low = fmin(low, __shfl_xor_sync(full, low, offset));
+    high = fmax(high, __shfl_xor_sync(full, high, offset));
+  }
+  out->depth = high > low ? high - low : 0.0;
+  return 0;
+}
+
+#endif
