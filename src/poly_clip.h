@@ -22,10 +22,11 @@
  * the other's pieces and the pieces' inner planes never make a polygon. Only
  * pairs of pieces that no plane of either parts are clipped.
  *
- * The polygons are summed as they come; their corners are kept for the depth
- * (the extent along the normal, known only at the end) up to
+ * For pieces the polygons are summed as they come; their corners are kept for
+ * the depth (the extent along the normal, known only at the end) up to
  * POLY_CLIP_MAX_NODES, and past that the clipping runs a second time for the
- * extent alone. */
+ * extent alone. Convex pairs keep all corners and sum them at the end (more
+ * corners than that go to the general path, as flush faces do). */
 #ifndef POLY_CLIP_H
 #define POLY_CLIP_H
 
@@ -135,6 +136,17 @@ POLY_INLINE void poly_clip_add_polygon(const double *polygon, int count, int on_
   }
 }
 
+/* The extent of `count` corners along `normal`, widening [*low, *high]. */
+POLY_INLINE void poly_clip_extent(const double *nodes, int count, const double *normal, double *low, double *high)
+{
+  for (int p = 0; p < count; p++) {
+    const double *x = nodes + 3 * p;
+    double along = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
+    *low = along < *low ? along : *low;
+    *high = along > *high ? along : *high;
+  }
+}
+
 POLY_INLINE void poly_clip_accumulator_start(poly_clip_accumulator *acc, int want_second)
 {
   acc->sums.volume6 = acc->sums.area = 0.0;
@@ -154,12 +166,7 @@ POLY_INLINE void poly_clip_accumulate(poly_clip_accumulator *acc, double *polygo
     for (int k = 0; k < 3; k++) polygon[3 * c + k] -= acc->reference[k];
   acc->num_corners += n;
   if (acc->depth_pass) {
-    for (int c = 0; c < n; c++) {
-      const double *x = polygon + 3 * c;
-      double along = acc->direction[0] * x[0] + acc->direction[1] * x[1] + acc->direction[2] * x[2];
-      acc->low = along < acc->low ? along : acc->low;
-      acc->high = along > acc->high ? along : acc->high;
-    }
+    poly_clip_extent(polygon, n, acc->direction, &acc->low, &acc->high);
     return;
   }
   poly_clip_add_polygon(polygon, n, on_a, &acc->sums);
@@ -172,9 +179,13 @@ POLY_INLINE void poly_clip_accumulate(poly_clip_accumulator *acc, double *polygo
 }
 
 /* The faces of `body` (vertices `x`, already in A's frame) clipped by `planes` of the other body (A's frame),
- * `front[v]` the vertices' masks of the planes they are in front of; each surviving polygon accumulated. */
-POLY_INLINE void poly_clip_body(const poly_clip_faces *body, const double *x, const double *planes, int other_faces,
-                                const unsigned *front, int on_a, poly_clip_accumulator *acc)
+ * `front[v]` the vertices' masks of the planes they are in front of: each surviving polygon's corners are
+ * appended to `nodes` and its corner count to `counts` (negative for A's faces). Returns 0 when the buffers
+ * are full. Convex pairs keep every corner this way (no second pass), which a GPU thread runs faster than
+ * summing each polygon as it comes. */
+POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, const double *planes, int other_faces,
+                               const unsigned *front, int on_a, double *nodes, int *num_nodes, int *counts,
+                               int *num_polygons)
 {
   double work[2][3 * POLY_CLIP_MAX_POLYGON];
   for (int f = 0; f < body->num_faces; f++) {
@@ -187,19 +198,32 @@ POLY_INLINE void poly_clip_body(const poly_clip_faces *body, const double *x, co
       some_front |= front[loop[c]];
     }
     if (all_front) continue;
-    double *in = work[0], *out = work[1];
+    int most = count;  /* corners after the clipping: at most one more per cutting plane */
+    for (unsigned m = some_front; m; m &= m - 1) most++;
+    if (*num_nodes + most > POLY_CLIP_MAX_NODES || *num_polygons == 2 * POLY_CLIP_MAX_PLANES) return 0;
+    double *polygon = nodes + 3 * *num_nodes;
     int n = count;
-    for (int c = 0; c < count; c++)
-      for (int k = 0; k < 3; k++) in[3 * c + k] = x[3 * loop[c] + k];
-    for (int k = 0; k < other_faces && n >= 3; k++)
-      if (some_front & (1u << k)) {
-        n = poly_clip_polygon(in, n, planes + 4 * k, out);
-        double *swap = in;
-        in = out;
-        out = swap;
-      }
-    if (n >= 3) poly_clip_accumulate(acc, in, n, on_a);
+    if (!some_front) {
+      for (int c = 0; c < count; c++)
+        for (int k = 0; k < 3; k++) polygon[3 * c + k] = x[3 * loop[c] + k];
+    } else {
+      double *in = work[0], *out = work[1];
+      for (int c = 0; c < count; c++)
+        for (int k = 0; k < 3; k++) in[3 * c + k] = x[3 * loop[c] + k];
+      for (int k = 0; k < other_faces && n >= 3; k++)
+        if (some_front & (1u << k)) {
+          n = poly_clip_polygon(in, n, planes + 4 * k, out);
+          double *swap = in;
+          in = out;
+          out = swap;
+        }
+      if (n < 3) continue;
+      for (int c = 0; c < 3 * n; c++) polygon[c] = in[c];
+    }
+    *num_nodes += n;
+    counts[(*num_polygons)++] = on_a ? -n : n;
   }
+  return 1;
 }
 
 /* Masks of the planes each of `count` points `x` is in front of, into `front`, and in `*parting` the planes every
@@ -230,20 +254,19 @@ POLY_INLINE int poly_clip_lowest_bit(unsigned mask)
   return k;
 }
 
-/* Volume, centroid, second moment, area and normal of the intersection from the accumulated sums, and its depth
- * from the kept corners; returns 0 when corners were not kept (overflow) and the depth needs the second pass. */
-POLY_INLINE int poly_clip_finish(poly_clip_accumulator *acc, const double *translation, poly_clip_result *out)
+/* Volume, centroid, second moment, area and normal of the intersection from its boundary's sums (taken from
+ * `reference`); 0 when there is no volume. */
+POLY_INLINE int poly_clip_result_from_sums(const poly_clip_sums *sums, const double *reference, int num_corners,
+                                           const double *translation, poly_clip_result *out)
 {
-  if (acc->num_corners == 0) return 1;
-  const poly_clip_sums *sums = &acc->sums;
   double volume = sums->volume6 / 6.0;
-  if (!(volume > 0.0)) return 1;
+  if (!(volume > 0.0)) return 0;
   out->volume = volume;
-  out->num_nodes = acc->num_corners;
+  out->num_nodes = num_corners;
   double from_reference[3];
   for (int k = 0; k < 3; k++) {
     from_reference[k] = sums->moment24[k] / (24.0 * volume);
-    out->centroid[k] = from_reference[k] + acc->reference[k];
+    out->centroid[k] = from_reference[k] + reference[k];
   }
   out->area = sums->area;
   if (sums->want_second) {
@@ -260,6 +283,15 @@ POLY_INLINE int poly_clip_finish(poly_clip_accumulator *acc, const double *trans
     double t = sqrt(translation[0] * translation[0] + translation[1] * translation[1] + translation[2] * translation[2]);
     for (int k = 0; k < 3; k++) out->normal[k] = t > 0.0 ? translation[k] / t : (k == 2 ? 1.0 : 0.0);
   }
+  return 1;
+}
+
+/* The accumulated sums' result and the depth from the kept corners; returns 0 when corners were not kept
+ * (overflow) and the depth needs the second pass. */
+POLY_INLINE int poly_clip_finish(poly_clip_accumulator *acc, const double *translation, poly_clip_result *out)
+{
+  if (acc->num_corners == 0 || !poly_clip_result_from_sums(&acc->sums, acc->reference, acc->num_corners, translation, out))
+    return 1;
   acc->low = 1e300, acc->high = -1e300;
   for (int k = 0; k < 3; k++) acc->direction[k] = out->normal[k];
   if (acc->overflow) {
@@ -267,12 +299,7 @@ POLY_INLINE int poly_clip_finish(poly_clip_accumulator *acc, const double *trans
     acc->num_corners = 0;  /* the second pass sets the same reference again */
     return 0;
   }
-  for (int p = 0; p < acc->num_kept; p++) {
-    const double *x = acc->nodes + 3 * p;
-    double along = out->normal[0] * x[0] + out->normal[1] * x[1] + out->normal[2] * x[2];
-    acc->low = along < acc->low ? along : acc->low;
-    acc->high = along > acc->high ? along : acc->high;
-  }
+  poly_clip_extent(acc->nodes, acc->num_kept, out->normal, &acc->low, &acc->high);
   out->depth = acc->high > acc->low ? acc->high - acc->low : 0.0;
   return 1;
 }
@@ -429,10 +456,12 @@ POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_cl
 }
 
 /* Two convex shapes (one piece each): each body's vertices against the other's planes; a plane with every vertex
- * of the other body in front of it parts them, and its code is the separation hint. */
+ * of the other body in front of it parts them, and its code is the separation hint. Then each body's faces
+ * clipped by the other's planes, all corners kept (0, the general path, when they do not fit), and summed from
+ * the first corner. */
 POLY_INLINE int poly_clip_convex_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *xb,
                                          const double *rotation, const double *translation, double flush,
-                                         poly_clip_accumulator *acc, poly_clip_result *out)
+                                         int want_second, poly_clip_result *out)
 {
   double planes_b[4 * POLY_CLIP_MAX_PLANES];
   unsigned front_a[POLY_CLIP_MAX_VERTICES], front_b[POLY_CLIP_MAX_VERTICES], parting = 0;
@@ -452,12 +481,29 @@ POLY_INLINE int poly_clip_convex_overlap(const poly_clip_faces *a, const poly_cl
     out->separating = (b->triangle[poly_clip_lowest_bit(parting)] << 1) | 1;
     return 1;
   }
-  for (int pass = 0; pass < 2; pass++) {
-    poly_clip_body(b, xb, a->planes, fa, front_b, 0, acc);
-    poly_clip_body(a, a->vertices, planes_b, fb, front_a, 1, acc);
-    if (pass == 0 && poly_clip_finish(acc, translation, out)) return 1;
+  double nodes[3 * POLY_CLIP_MAX_NODES];
+  int counts[2 * POLY_CLIP_MAX_PLANES], num_nodes = 0, num_polygons = 0;
+  if (!poly_clip_body(b, xb, a->planes, fa, front_b, 0, nodes, &num_nodes, counts, &num_polygons) ||
+      !poly_clip_body(a, a->vertices, planes_b, fb, front_a, 1, nodes, &num_nodes, counts, &num_polygons))
+    return 0;
+  if (num_nodes == 0) return 1;
+  double reference[3] = {nodes[0], nodes[1], nodes[2]};
+  for (int p = 0; p < num_nodes; p++)
+    for (int k = 0; k < 3; k++) nodes[3 * p + k] -= reference[k];
+  poly_clip_sums sums;
+  sums.volume6 = sums.area = 0.0;
+  for (int k = 0; k < 3; k++) sums.moment24[k] = sums.area_vector[k] = 0.0;
+  for (int e = 0; e < 6; e++) sums.second120[e] = 0.0;
+  sums.want_second = want_second;
+  for (int q = 0, first = 0; q < num_polygons; q++) {
+    int n = counts[q] < 0 ? -counts[q] : counts[q];
+    poly_clip_add_polygon(nodes + 3 * first, n, counts[q] < 0, &sums);
+    first += n;
   }
-  poly_clip_finish_depth(acc, out);
+  if (!poly_clip_result_from_sums(&sums, reference, num_nodes, translation, out)) return 1;
+  double low = 1e300, high = -1e300;
+  poly_clip_extent(nodes, num_nodes, out->normal, &low, &high);
+  out->depth = high > low ? high - low : 0.0;
   return 1;
 }
 
@@ -481,7 +527,6 @@ POLY_INLINE int poly_clip_overlap_of(const poly_clip_faces *a, const poly_clip_f
 {
   if (!pieces && (a->num_pieces != 1 || b->num_pieces != 1)) return 0;
   double xb[3 * POLY_CLIP_MAX_VERTICES];
-  poly_clip_accumulator acc;
   const double flush = POLY_CLIP_FLUSH * size;
   for (int v = 0; v < b->num_vertices; v++) {
     poly_matrix_apply(rotation, b->vertices + 3 * v, xb + 3 * v);
@@ -491,9 +536,10 @@ POLY_INLINE int poly_clip_overlap_of(const poly_clip_faces *a, const poly_clip_f
   out->num_nodes = 0;
   out->separating = -1;
   for (int e = 0; e < 6; e++) out->second_moment[e] = 0.0;
-  poly_clip_accumulator_start(&acc, want_second);
   if (a->num_pieces == 1 && b->num_pieces == 1)
-    return poly_clip_convex_overlap(a, b, xb, rotation, translation, flush, &acc, out);
+    return poly_clip_convex_overlap(a, b, xb, rotation, translation, flush, want_second, out);
+  poly_clip_accumulator acc;
+  poly_clip_accumulator_start(&acc, want_second);
   return poly_clip_pieces_overlap(a, b, xb, rotation, translation, flush, &acc, out);
 }
 

@@ -108,16 +108,21 @@ def few_nodes_driver(tmp_path_factory):
     return binary
 
 
-@pytest.mark.parametrize("shape", ["cube.stl", "schoenhardt.stl"])
-def test_clipping_depth_pass_when_corners_overflow(few_nodes_driver, driver, shape):  # noqa: F811
-    """The same comparison with the corners' buffer cut to 12: the depth from the second pass must agree with
-    the general path as closely, and the whole result with the full buffer's to rounding."""
+@pytest.mark.parametrize("shape", ["cube.stl", "schoenhardt.stl", "rock_10.obj"])
+def test_clipping_corners_overflow(few_nodes_driver, driver, shape):  # noqa: F811
+    """The same comparison with the corners' buffer cut to 12. Pairs of pieces (Schoenhardt, rock_10) then find
+    their depth in a second clipping pass, which must agree with the general path as closely and leave the
+    general path no more pairs; pairs of convex shapes (the cube), which keep all their corners, go to the
+    general path instead, which must then give the answer."""
     values, log = run(few_nodes_driver, shape, 1000, "double", capacity="clip")
     full, _ = run(driver, shape, 1000, "double", capacity="clip")
     for quantity, limit in CLIP_TOLERANCE.items():
         assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
-    assert values["depth"] <= max(2 * full["depth"], 1e-15)
-    assert values["fallbacks"] == full["fallbacks"]
+    assert values["flag_differences"] == 0 and values["wrongly_filtered"] == 0, log
+    if values["clip_pieces"] > 1:
+        assert values["fallbacks"] == full["fallbacks"]
+    else:
+        assert values["fallbacks"] > 2 * full["fallbacks"]
 
 
 def test_shapes_beyond_the_clipping_path_keep_the_others(driver):  # noqa: F811
