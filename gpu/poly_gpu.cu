@@ -557,10 +557,10 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
       return false;
     device_results = state.results.data;
   }
-  if (limits.bytes == 0 && Precision == POLY_PRECISION_DOUBLE && state.any_clip && num_touching > 0 &&
+  if (limits.bytes == 0 && Precision != POLY_PRECISION_SINGLE && state.any_clip && num_touching > 0 &&
       !state.options.pair_kernel) {
-    // Pairs of shapes with clip faces take the clipping path; the rest, and what it hands back, the one-thread
-    // kernel.
+    // Pairs of shapes with clip faces take the clipping path (in double, for mixed precision too, as on the host);
+    // the rest, and what it hands back, the one-thread kernel.
     if (!ensure(state.handed_back, num_touching, message, size)) return false;
     // Pairs of convex shapes run faster one per thread (their few faces leave most of a warp idle); shapes of
     // several pieces one per warp (doc/benchmarks.md, "Clipping kernels").

@@ -8,6 +8,28 @@
 
 #include "poly_overlap_instances.h"
 
+/* The clipping path's faces and pieces (double, whatever the view's precision: mixed precision clips in double). */
+static poly_clip_faces clip_faces_of(const poly_shape *shape)
+{
+  poly_clip_faces clip;
+  clip.num_faces = shape->num_clip_faces;
+  clip.num_vertices = shape->num_vertices;
+  clip.vertices = shape->vertices;
+  clip.planes = shape->clip_planes;
+  clip.loop_start = shape->clip_loop_start;
+  clip.loop = shape->clip_loop;
+  clip.triangle = shape->clip_face_triangle;
+  clip.num_planes = shape->num_clip_planes;
+  clip.num_pieces = shape->num_clip_pieces;
+  clip.piece_front = shape->clip_piece_front;
+  clip.piece_back = shape->clip_piece_back;
+  clip.piece_point_start = shape->clip_piece_point_start;
+  clip.piece_points = shape->clip_piece_points;
+  clip.piece_face_start = shape->clip_piece_face_start;
+  clip.piece_faces = shape->clip_piece_faces;
+  return clip;
+}
+
 poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
 {
   poly_shape_view_d view;
@@ -25,21 +47,7 @@ poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
   view.support = shape->support;
   view.num_support = shape->num_support;
   view.bounding_radius = shape->bounding_radius;
-  view.clip.num_faces = shape->num_clip_faces;
-  view.clip.num_vertices = shape->num_vertices;
-  view.clip.vertices = shape->vertices;
-  view.clip.planes = shape->clip_planes;
-  view.clip.loop_start = shape->clip_loop_start;
-  view.clip.loop = shape->clip_loop;
-  view.clip.triangle = shape->clip_face_triangle;
-  view.clip.num_planes = shape->num_clip_planes;
-  view.clip.num_pieces = shape->num_clip_pieces;
-  view.clip.piece_front = shape->clip_piece_front;
-  view.clip.piece_back = shape->clip_piece_back;
-  view.clip.piece_point_start = shape->clip_piece_point_start;
-  view.clip.piece_points = shape->clip_piece_points;
-  view.clip.piece_face_start = shape->clip_piece_face_start;
-  view.clip.piece_faces = shape->clip_piece_faces;
+  view.clip = clip_faces_of(shape);
   return view;
 }
 
@@ -69,6 +77,7 @@ int poly_shape_view_make_f(const poly_shape *shape, poly_shape_view_f *view)
   view->support = shape->support;
   view->num_support = shape->num_support;
   view->bounding_radius = (float)shape->bounding_radius;
+  view->clip = clip_faces_of(shape);
   return 0;
 }
 
@@ -118,44 +127,49 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
   poly_second_moment_rotate(rotation_a, local_second, result->second_moment);
 }
 
-/* The clipping path (poly_clip.h) for two shapes with clip faces, in double: 1 when it gave the answer. */
-static int overlap_by_clipping(const poly_shape_view_d *a, const poly_shape_view_d *b, const double *rotation,
-                               const double *translation, poly_overlap_workspace_d *ws, double *local_centroid,
-                               double *local_normal, poly_overlap_result *result)
-{
-  if (!ws->use_clip || a->clip.num_faces == 0 || b->clip.num_faces == 0) return 0;
-  poly_clip_result clip;
-  if (!poly_clip_overlap(&a->clip, &b->clip, rotation, translation, a->bounding_radius + b->bounding_radius,
-                         ws->want_second_moment, &clip)) {
-    ws->clip_fallbacks++;
-    return 0;
+/* The clipping path (poly_clip.h) for two shapes with clip faces, in double (also for mixed precision, whose
+ * contact law is in double: the clipping is cheaper than the single-precision general path and exact to double
+ * rounding); 1 when it gave the answer. Single precision keeps the general path. */
+#define POLY_OVERLAP_BY_CLIPPING(NAME, SUFFIX)                                                          \
+  static int NAME(const poly_shape_view##SUFFIX *a, const poly_shape_view##SUFFIX *b,                 \
+                                         const double *rotation, const double *translation,           \
+                                         poly_overlap_workspace##SUFFIX *ws, double *local_centroid,   \
+                                         double *local_normal, poly_overlap_result *result)            \
+  {                                                                                                   \
+    if (!ws->use_clip || a->clip.num_faces == 0 || b->clip.num_faces == 0) return 0;                  \
+    poly_clip_result clip;                                                                            \
+    if (!poly_clip_overlap(&a->clip, &b->clip, rotation, translation,                                 \
+                           (double)a->bounding_radius + (double)b->bounding_radius, ws->want_second_moment, &clip)) { \
+      ws->clip_fallbacks++;                                                                           \
+      return 0;                                                                                       \
+    }                                                                                                 \
+    result->volume = clip.volume;                                                                     \
+    result->depth = clip.depth;                                                                       \
+    result->area = clip.area;                                                                         \
+    result->projected_area = clip.projected_area;                                                     \
+    result->num_nodes = clip.num_nodes;                                                               \
+    result->num_inconsistent = result->recomputed = result->smoothed = 0;                             \
+    result->filtered_out = !(clip.volume > 0.0); /* apart, proved by the clipping */                  \
+    result->separating = clip.separating;                                                             \
+    for (int e = 0; e < 6; e++) result->second_moment[e] = clip.second_moment[e];                     \
+    for (int k = 0; k < 3; k++) {                                                                     \
+      local_centroid[k] = clip.centroid[k];                                                           \
+      local_normal[k] = clip.normal[k];                                                               \
+    }                                                                                                 \
+    ws->num_points = 0; /* no nodes kept: the mesh walls, which read them, do not come here */        \
+    return 1;                                                                                         \
   }
-  result->volume = clip.volume;
-  result->depth = clip.depth;
-  result->area = clip.area;
-  result->projected_area = clip.projected_area;
-  result->num_nodes = clip.num_nodes;
-  result->num_inconsistent = result->recomputed = result->smoothed = 0;
-  result->filtered_out = !(clip.volume > 0.0);  /* apart, proved by the clipping */
-  result->separating = clip.separating;
-  for (int e = 0; e < 6; e++) result->second_moment[e] = clip.second_moment[e];
-  for (int k = 0; k < 3; k++) {
-    local_centroid[k] = clip.centroid[k];
-    local_normal[k] = clip.normal[k];
-  }
-  ws->num_points = 0;  /* no nodes kept: the mesh walls, which read them, do not come here */
-  return 1;
-}
+
+POLY_OVERLAP_BY_CLIPPING(overlap_by_clipping_d, _d)
+POLY_OVERLAP_BY_CLIPPING(overlap_by_clipping_m, _f)
 static int overlap_by_clipping_f(const poly_shape_view_f *a, const poly_shape_view_f *b, const double *rotation,
-                                 const double *translation, poly_overlap_workspace_f *ws, double *local_centroid,
-                                 double *local_normal, poly_overlap_result *result)
+                                      const double *translation, poly_overlap_workspace_f *ws, double *local_centroid,
+                                      double *local_normal, poly_overlap_result *result)
 {
   (void)a, (void)b, (void)rotation, (void)translation, (void)ws, (void)local_centroid, (void)local_normal,
       (void)result;
   return 0;
 }
-#define overlap_by_clipping_d overlap_by_clipping
-#define overlap_by_clipping_m overlap_by_clipping_f
 
 #define POLY_OVERLAP_ENTRY(SUFFIX)                                                                     \
   void poly_overlap##SUFFIX(const poly_shape_view##SUFFIX *a, const poly_pose *pose_a,                \

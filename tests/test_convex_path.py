@@ -94,6 +94,25 @@ def test_pieces_path_agrees_with_the_general_path(driver, shape):  # noqa: F811
     assert values["smoothed"] <= values["fallbacks"] <= 0.1 * values["poses"]
 
 
+CLIP_MIXED_TOLERANCE = {"volume": 1e-6, "centroid": 1e-6, "area": 1e-6, "depth": 1e-5, "second_moment": 1e-6,
+                        "normal_scaled": 1e-5}
+
+
+@pytest.mark.parametrize("shape", ["cube.stl", "schoenhardt.stl", "rock_10.obj"])
+def test_mixed_precision_clips_in_double(driver, shape):  # noqa: F811
+    """Mixed precision (single-precision geometry, double contact law) takes the clipping path in double for the
+    shapes that have it, single precision does not: against the general path in mixed precision, the differences
+    are the single-precision geometry's own (single's limits, the normal weighted as above; measured <= 3.1e-7),
+    and in single precision nothing takes it."""
+    values, log = run(driver, shape, 2000, "mixed", capacity="clip")
+    for quantity, limit in CLIP_MIXED_TOLERANCE.items():
+        assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
+    assert values["volume"] > 0, "mixed precision did not take the clipping path"
+    assert values["flag_differences"] == 0 and values["wrongly_filtered"] == 0, log
+    single, _ = run(driver, shape, 200, "single", capacity="clip")
+    assert single["volume"] == 0 and single["normal_scaled"] == 0
+
+
 @pytest.fixture(scope="module")
 def few_nodes_driver(tmp_path_factory):
     """records_paths with room for 12 polygon corners, so most overlaps find their depth in the clipping path's

@@ -61,7 +61,7 @@ static void evaluate(const poly_pose *a, const poly_pose *b, int use_records, po
   /* First evaluation: the path under test; second: what it is checked against. clip: the clipping path
    * (poly_clip.h) against the general records path; otherwise the clipping path is off. */
   int use_convex = convex_mode && use_records;
-  ws_d.use_clip = clip_mode && use_records;
+  ws_d.use_clip = ws_f.use_clip = clip_mode && use_records;
   if (convex_mode || clip_mode) use_records = 1;
   ws_d.use_convex = ws_f.use_convex = use_convex;
   if (precision == POLY_PRECISION_DOUBLE) {
