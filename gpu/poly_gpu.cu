@@ -67,6 +67,7 @@ struct State {
   bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
   bool any_clip;                    // some shape has faces for the clipping path (poly_clip.h)
   bool any_pieces;                  // some such shape is not convex (several pieces): the warp clipping kernel
+  bool all_clip;                    // every shape has clip faces
   ClipWarpLimits clip_limits;       // its shared block per warp, for the uploaded shapes
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
@@ -337,7 +338,7 @@ __global__ void __launch_bounds__(32 * POLY_CLIP_WARPS, POLY_CLIP_WARP_MIN_BLOCK
                      PairForce *__restrict__ pair_force, PairGeometry *__restrict__ results,
                      int *__restrict__ counters, int *__restrict__ handed_back, ClipWarpLimits limits)
 {
-  extern __shared__ double clip_blocks[];
+  extern __shared__ __align__(16) double clip_blocks[];
   const int warp = threadIdx.x >> 5, local = blockIdx.x * POLY_CLIP_WARPS + warp;
   if (local >= count) return;  // the whole warp
   ClipWarpMemory memory;
@@ -557,10 +558,14 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
       return false;
     device_results = state.results.data;
   }
-  if (limits.bytes == 0 && Precision != POLY_PRECISION_SINGLE && state.any_clip && num_touching > 0 &&
-      !state.options.pair_kernel) {
+  if ((limits.bytes == 0 || state.all_clip) && Precision != POLY_PRECISION_SINGLE && state.any_clip &&
+      num_touching > 0 && !state.options.pair_kernel) {
     // Pairs of shapes with clip faces take the clipping path (in double, for mixed precision too, as on the host);
-    // the rest, and what it hands back, the one-thread kernel.
+    // the rest, and what it hands back, the one-thread kernel. When every shape has clip faces the warp kernel's
+    // shapes (rock_40) take it too, and the pairs beyond the warp kernel's block the one-thread kernel.
+    if (limits.bytes > 0 && !thread_per_pair<Precision>(settings, state.large.data, num_large, device_results,
+                                                         message, size))
+      return false;
     if (!ensure(state.handed_back, num_touching, message, size)) return false;
     // Pairs of convex shapes run faster one per thread (their few faces leave most of a warp idle); shapes of
     // several pieces one per warp (doc/benchmarks.md, "Clipping kernels").
@@ -704,10 +709,11 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
   DeviceShapes &s = state.shapes;
   std::vector<double> planes;
   std::vector<int> loop_start, loop, triangle, point_start, points, face_start, faces;
-  std::vector<poly_clip_mask> front, back;
+  std::vector<poly_clip_words> front, back;
   std::vector<int> first_plane, first_face, first_start, first_corner, first_piece, first_point_start, first_face_start,
       first_point, first_piece_face;
   state.any_clip = state.any_pieces = false;
+  state.all_clip = num_shapes > 0;
   ClipWarpLimits limits = {0, 0, 0, 0};
   for (int i = 0; i < num_shapes; i++) {
     const poly_shape *shape = shapes[i];
@@ -720,7 +726,10 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
     first_face_start.push_back((int)face_start.size());
     first_point.push_back((int)points.size());
     first_piece_face.push_back((int)faces.size());
-    if (shape->num_clip_faces == 0) continue;
+    if (shape->num_clip_faces == 0) {
+      state.all_clip = false;
+      continue;
+    }
     state.any_clip = true;
     const int np = shape->num_clip_pieces;
     if (np > 1) state.any_pieces = true;

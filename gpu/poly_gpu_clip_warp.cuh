@@ -26,7 +26,7 @@
 #ifndef POLY_CLIP_WARP_MIN_BLOCKS
 #define POLY_CLIP_WARP_MIN_BLOCKS 4 /* blocks per SM the registers are sized for (doc/benchmarks.md) */
 #endif
-#define POLY_CLIP_WARP_ITEMS 128   /* faces to clip per pair */
+#define POLY_CLIP_WARP_ITEMS 256   /* faces to clip per pair */
 #define POLY_CLIP_WARP_NODES 64    /* corners kept for the depth per pair */
 #define POLY_CLIP_WARP_POLYGON 12  /* corners of a clipped face (a lane's work buffers are in local memory) */
 
@@ -52,11 +52,7 @@ static __host__ __device__ inline size_t clip_warp_layout(ClipWarpMemory *m, cha
   size_t bytes = sizeof(double) * doubles + sizeof(poly_clip_mask) * masks + sizeof(int) * POLY_CLIP_WARP_ITEMS;
   bytes = (bytes + 15) / 16 * 16;
   if (!m || !memory) return bytes;
-  double *d = (double *)memory;
-  m->xb = d; d += 3 * points;
-  m->planes_b = d; d += 4 * limits.planes;
-  m->nodes = d; d += 3 * POLY_CLIP_WARP_NODES;
-  poly_clip_mask *k = (poly_clip_mask *)d;
+  poly_clip_mask *k = (poly_clip_mask *)memory;  /* first: the masks want 16-byte alignment */
   m->ahead_a = k; k += points;
   m->behind_a = k; k += points;
   m->ahead_b = k; k += points;
@@ -65,7 +61,11 @@ static __host__ __device__ inline size_t clip_warp_layout(ClipWarpMemory *m, cha
   m->piece_behind_a = k; k += limits.pieces;
   m->piece_ahead_b = k; k += limits.pieces;
   m->piece_behind_b = k; k += limits.pieces;
-  m->items = (int *)k;
+  double *d = (double *)k;
+  m->xb = d; d += 3 * points;
+  m->planes_b = d; d += 4 * limits.planes;
+  m->nodes = d; d += 3 * POLY_CLIP_WARP_NODES;
+  m->items = (int *)d;
   return bytes;
 }
 
@@ -85,7 +85,8 @@ static __device__ __forceinline__ int clip_warp_item(int item, const poly_clip_f
   const poly_clip_faces &other = of_a ? b : a;
   return poly_clip_face_by_piece(of_a ? &a : &b, face, of_a ? a.vertices : m.xb, of_a ? m.ahead_a : m.ahead_b,
                                  of_a ? m.behind_a : m.behind_b, of_a ? m.planes_b : a.planes,
-                                 other.piece_front[piece], other.piece_back[piece], work[0], work[1],
+                                 poly_clip_mask_of(other.piece_front + piece), poly_clip_mask_of(other.piece_back + piece),
+                                 work[0], work[1],
                                  POLY_CLIP_WARP_POLYGON, result);
 }
 
@@ -150,8 +151,10 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
     const int q = first + lane, i = q / b.num_pieces, j = q - i * b.num_pieces;
     int faces_b = 0, faces_a = 0;
     if (q < num_pairs &&
-        !((m.piece_ahead_b[j] & a.piece_front[i]) | (m.piece_behind_b[j] & a.piece_back[i]) |
-          (m.piece_ahead_a[i] & b.piece_front[j]) | (m.piece_behind_a[i] & b.piece_back[j]))) {
+        !((m.piece_ahead_b[j] & poly_clip_mask_of(a.piece_front + i)) |
+          (m.piece_behind_b[j] & poly_clip_mask_of(a.piece_back + i)) |
+          (m.piece_ahead_a[i] & poly_clip_mask_of(b.piece_front + j)) |
+          (m.piece_behind_a[i] & poly_clip_mask_of(b.piece_back + j)))) {
       faces_b = b.piece_face_start[j + 1] - b.piece_face_start[j];
       faces_a = a.piece_face_start[i + 1] - a.piece_face_start[i];
     }

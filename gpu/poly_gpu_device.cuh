@@ -41,7 +41,7 @@ struct DeviceShapes {
   poly_clip_faces *clip;      // per shape its faces for the clipping path (num_faces 0: none), device pointers
   double *clip_planes;
   int *clip_loop_start, *clip_loop, *clip_triangle;
-  poly_clip_mask *clip_piece_front, *clip_piece_back;  // per piece (poly_clip_faces)
+  poly_clip_words *clip_piece_front, *clip_piece_back;  // per piece (poly_clip_faces)
   int *clip_piece_point_start, *clip_piece_points, *clip_piece_face_start, *clip_piece_faces;
 };
 

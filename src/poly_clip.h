@@ -35,14 +35,26 @@
 #include "poly_clip_limits.h"
 #include "poly_rigid.h"
 
-typedef unsigned long long poly_clip_mask;  /* a bit per plane of a shape (POLY_CLIP_MAX_SHAPE_PLANES) */
-
-POLY_INLINE int poly_clip_lowest_bit64(poly_clip_mask mask)
+POLY_INLINE int poly_clip_mask_lowest(poly_clip_mask mask)
 {
-#ifdef __CUDA_ARCH__
-  return __ffsll((long long)mask) - 1;
+#if defined(__CUDACC__) || defined(POLY_CLIP_WIDE_MASKS)
+  unsigned long long low = (unsigned long long)mask, high = (unsigned long long)(mask >> 64);
 #else
-  return __builtin_ctzll(mask);
+  unsigned long long low = mask, high = 0;
+#endif
+#ifdef __CUDA_ARCH__
+  return low ? __ffsll((long long)low) - 1 : 64 + __ffsll((long long)high) - 1;
+#else
+  return low ? __builtin_ctzll(low) : 64 + __builtin_ctzll(high);
+#endif
+}
+
+POLY_INLINE poly_clip_mask poly_clip_mask_of(const poly_clip_words *words)
+{
+#if defined(__CUDACC__) || defined(POLY_CLIP_WIDE_MASKS)
+  return (poly_clip_mask)words->low | ((poly_clip_mask)words->high << 64);
+#else
+  return words->low;
 #endif
 }
 
@@ -60,7 +72,7 @@ typedef struct poly_clip_faces {
    * faces' planes first for a convex shape), a piece lies behind the planes of its piece_front mask and in
    * front of those of its piece_back mask. */
   int num_planes, num_pieces;
-  const poly_clip_mask *piece_front, *piece_back;
+  const poly_clip_words *piece_front, *piece_back;
   const int *piece_point_start, *piece_points;  /* per piece its corners; index num_vertices is the origin */
   const int *piece_face_start, *piece_faces;    /* per piece the faces on its surface */
 } poly_clip_faces;
@@ -366,7 +378,7 @@ POLY_INLINE int poly_clip_face_by_piece(const poly_clip_faces *body, int face, c
   for (int c = 0; c < count; c++)
     for (int k = 0; k < 3; k++) in[3 * c + k] = x[3 * loop[c] + k];
   for (poly_clip_mask m = some_out; m && n >= 3; m &= m - 1) {
-    int k = poly_clip_lowest_bit64(m);
+    int k = poly_clip_mask_lowest(m);
     const double *plane = planes + 4 * k;
     double flipped[4] = {-plane[0], -plane[1], -plane[2], -plane[3]};
     n = poly_clip_polygon(in, n, (back >> k) & 1 ? flipped : plane, out);
@@ -435,9 +447,10 @@ POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_cl
   poly_clip_piece_sides(a, ahead_a, behind_a, piece_ahead_a, piece_behind_a);
   for (int pass = 0; pass < 2; pass++) {
     for (int i = 0; i < a->num_pieces; i++) {
-      const poly_clip_mask front_a = a->piece_front[i], back_a = a->piece_back[i];
+      const poly_clip_mask front_a = poly_clip_mask_of(a->piece_front + i), back_a = poly_clip_mask_of(a->piece_back + i);
       for (int j = 0; j < b->num_pieces; j++) {
-        const poly_clip_mask front_b = b->piece_front[j], back_b = b->piece_back[j];
+        const poly_clip_mask front_b = poly_clip_mask_of(b->piece_front + j),
+                             back_b = poly_clip_mask_of(b->piece_back + j);
         if ((piece_ahead_b[j] & front_a) | (piece_behind_b[j] & back_a) | (piece_ahead_a[i] & front_b) |
             (piece_behind_a[i] & back_b))
           continue;  /* a plane of one piece has the other wholly outside */
@@ -505,6 +518,12 @@ POLY_INLINE int poly_clip_convex_overlap(const poly_clip_faces *a, const poly_cl
   poly_clip_extent(nodes, num_nodes, out->normal, &low, &high);
   out->depth = high > low ? high - low : 0.0;
   return 1;
+}
+
+/* Does the clipping path take this shape here: clip faces, and (pieces) no more planes than the masks hold? */
+POLY_INLINE int poly_clip_takes(const poly_clip_faces *faces)
+{
+  return faces->num_faces > 0 && faces->num_planes <= POLY_CLIP_MAX_SHAPE_PLANES;
 }
 
 /* The overlap of A and B, B's body frame taken to A's by `rotation` (row-major) and `translation`. Returns 1

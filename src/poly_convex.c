@@ -109,8 +109,8 @@ static poly_status find_clip_faces(poly_shape *shape)
 static poly_status single_piece(poly_shape *shape)
 {
   const int nf = shape->num_clip_faces, nv = shape->num_vertices;
-  shape->clip_piece_front = (unsigned long long *)malloc(sizeof(unsigned long long));
-  shape->clip_piece_back = (unsigned long long *)malloc(sizeof(unsigned long long));
+  shape->clip_piece_front = (poly_clip_words *)malloc(sizeof(poly_clip_words));
+  shape->clip_piece_back = (poly_clip_words *)malloc(sizeof(poly_clip_words));
   shape->clip_piece_point_start = (int *)malloc(sizeof(int) * 2);
   shape->clip_piece_points = (int *)malloc(sizeof(int) * (size_t)nv);
   shape->clip_piece_face_start = (int *)malloc(sizeof(int) * 2);
@@ -118,8 +118,9 @@ static poly_status single_piece(poly_shape *shape)
   if (!shape->clip_piece_front || !shape->clip_piece_back || !shape->clip_piece_point_start ||
       !shape->clip_piece_points || !shape->clip_piece_face_start || !shape->clip_piece_faces)
     return POLY_ERROR_MEMORY;
-  shape->clip_piece_front[0] = (1ull << nf) - 1ull;
-  shape->clip_piece_back[0] = 0ull;
+  shape->clip_piece_front[0].low = (1ull << nf) - 1ull;
+  shape->clip_piece_front[0].high = 0ull;
+  shape->clip_piece_back[0].low = shape->clip_piece_back[0].high = 0ull;
   shape->clip_piece_point_start[0] = shape->clip_piece_face_start[0] = 0;
   shape->clip_piece_point_start[1] = nv;
   shape->clip_piece_face_start[1] = nf;
@@ -184,7 +185,7 @@ static int cone_planes(const poly_shape *shape, const unsigned char *in_patch, c
 }
 
 /* Index of the plane (n, offset) in the shape's `planes` (count of them), added when new; its side through
- * `opposite` (1 when the stored plane faces the other way); -1 when POLY_CLIP_MAX_SHAPE_PLANES are taken. */
+ * `opposite` (1 when the stored plane faces the other way); -1 when POLY_CLIP_SHAPE_PLANES are taken. */
 static int shape_plane(double *planes, int *count, const double *plane, int *opposite)
 {
   for (int k = 0; k < *count; k++) {
@@ -199,7 +200,7 @@ static int shape_plane(double *planes, int *count, const double *plane, int *opp
       return k;
     }
   }
-  if (*count == POLY_CLIP_MAX_SHAPE_PLANES) return -1;
+  if (*count == POLY_CLIP_SHAPE_PLANES) return -1;
   for (int c = 0; c < 4; c++) planes[4 * *count + c] = plane[c];
   *opposite = 0;
   return (*count)++;
@@ -223,9 +224,9 @@ static poly_status find_pieces(poly_shape *shape)
   double scratch[4 * POLY_CLIP_MAX_PLANES];
   int *neighbour = (int *)malloc(sizeof(int) * 3 * (size_t)nt), *piece_of = (int *)malloc(sizeof(int) * (size_t)nt);
   unsigned char *in_patch = (unsigned char *)calloc((size_t)nt, 1), *seen = (unsigned char *)calloc((size_t)nv, 1);
-  double *planes = (double *)malloc(sizeof(double) * 4 * POLY_CLIP_MAX_SHAPE_PLANES);
-  unsigned long long *front = (unsigned long long *)calloc(POLY_CLIP_MAX_PIECES, sizeof(unsigned long long));
-  unsigned long long *back = (unsigned long long *)calloc(POLY_CLIP_MAX_PIECES, sizeof(unsigned long long));
+  double *planes = (double *)malloc(sizeof(double) * 4 * POLY_CLIP_SHAPE_PLANES);
+  poly_clip_words *front = (poly_clip_words *)calloc(POLY_CLIP_MAX_PIECES, sizeof(poly_clip_words));
+  poly_clip_words *back = (poly_clip_words *)calloc(POLY_CLIP_MAX_PIECES, sizeof(poly_clip_words));
   int *point_start = (int *)malloc(sizeof(int) * (POLY_CLIP_MAX_PIECES + 1));
   int *points = (int *)malloc(sizeof(int) * (size_t)(3 * nt + POLY_CLIP_MAX_PIECES));
   int *face_start = (int *)malloc(sizeof(int) * (POLY_CLIP_MAX_PIECES + 1)), *faces = (int *)malloc(sizeof(int) * (size_t)nt);
@@ -286,9 +287,13 @@ static poly_status find_pieces(poly_shape *shape)
     int count = cone_planes(shape, in_patch, neighbour, tolerance, scratch);
     for (int k = 0; k < count && ok; k++) {
       int opposite, index = shape_plane(planes, &num_planes, scratch + 4 * k, &opposite);
-      if (index < 0) ok = 0;
-      else if (opposite) back[num_pieces] |= 1ull << index;
-      else front[num_pieces] |= 1ull << index;
+      if (index < 0) {
+        ok = 0;
+      } else {
+        poly_clip_words *mask = opposite ? back + num_pieces : front + num_pieces;
+        if (index < 64) mask->low |= 1ull << index;
+        else mask->high |= 1ull << (index - 64);
+      }
     }
     int num_points = point_start[num_pieces], num_faces = face_start[num_pieces];
     points[num_points++] = nv;

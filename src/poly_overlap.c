@@ -136,7 +136,7 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
                                          poly_overlap_workspace##SUFFIX *ws, double *local_centroid,   \
                                          double *local_normal, poly_overlap_result *result)            \
   {                                                                                                   \
-    if (!ws->use_clip || a->clip.num_faces == 0 || b->clip.num_faces == 0) return 0;                  \
+    if (!ws->use_clip || !poly_clip_takes(&a->clip) || !poly_clip_takes(&b->clip)) return 0;          \
     poly_clip_result clip;                                                                            \
     if (!poly_clip_overlap(&a->clip, &b->clip, rotation, translation,                                 \
                            (double)a->bounding_radius + (double)b->bounding_radius, ws->want_second_moment, &clip)) { \

@@ -14,6 +14,7 @@
 #define POLY_SHAPE_H
 
 #include <stddef.h>
+#include "poly_clip_limits.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -100,7 +101,7 @@ typedef struct poly_shape {
    * convex shape (one piece); per piece the masks of the planes it lies behind and in front of, its corners
    * (vertex indices, num_vertices for the centre of mass) and its faces, each a CSR list. */
   int num_clip_planes, num_clip_pieces;
-  unsigned long long *clip_piece_front, *clip_piece_back;
+  poly_clip_words *clip_piece_front, *clip_piece_back;
   int *clip_piece_point_start, *clip_piece_points, *clip_piece_face_start, *clip_piece_faces;
 } poly_shape;
 

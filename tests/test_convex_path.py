@@ -79,14 +79,34 @@ def test_clipping_path_agrees_with_the_general_path(driver, shape):  # noqa: F81
     assert values["smoothed"] <= values["fallbacks"] <= 0.25 * values["poses"]
 
 
-@pytest.mark.parametrize("shape", ["schoenhardt.stl", "rock_10.obj", "rock_20.obj"])
-def test_pieces_path_agrees_with_the_general_path(driver, shape):  # noqa: F811
+def build_driver(tmp_path_factory, name, defines):
+    if not shutil.which("gcc"):
+        pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
+    binary = str(tmp_path_factory.mktemp(name) / "records_paths")
+    sources = [os.path.join(ROOT, "tests", "unit", "records_paths.c")] + [
+        os.path.join(ROOT, "src", name) for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c")]
+    subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"] + defines +
+                   ["-I" + os.path.join(ROOT, "src")] + sources + ["-lm", "-o", binary], check=True)
+    return binary
+
+
+@pytest.fixture(scope="module")
+def wide_driver(tmp_path_factory):
+    """records_paths with the GPU's 128-bit plane masks (POLY_CLIP_WIDE_MASKS), so that rock_40's pieces (79 planes),
+    which only the GPU clips, are checked here too."""
+    return build_driver(tmp_path_factory, "wide", ["-DPOLY_CLIP_WIDE_MASKS"])
+
+
+@pytest.mark.parametrize("shape,wide", [("schoenhardt.stl", False), ("rock_10.obj", False), ("rock_20.obj", False),
+                                        ("schoenhardt.stl", True), ("rock_40.obj", True)])
+def test_pieces_path_agrees_with_the_general_path(driver, wide_driver, shape, wide):  # noqa: F811
     """Shapes that are not convex take the clipping path through convex pieces (cones from the centre of mass over
     patches of the surface, src/poly_convex.c): each body's faces clipped by each of the other's pieces that no
     plane parts from one of its own. Against the general records path on the same poses and tolerances as the
-    convex shapes above. The pieces' inner planes widen the flush band (identical bodies at the same
-    orientation put vertices on them), so more pairs go to the general path, still few."""
-    values, log = run(driver, shape, 2000, "double", capacity="clip")
+    convex shapes above, with the host's 64-bit plane masks and the GPU's 128-bit ones. The pieces' inner planes
+    widen the flush band (identical bodies at the same orientation put vertices on them), so more pairs go to the
+    general path, still few."""
+    values, log = run(wide_driver if wide else driver, shape, 2000, "double", capacity="clip")
     assert values["clip_faces"] >= 8 and values["clip_pieces"] >= 2 and values["overlapping"] >= 800
     for quantity, limit in CLIP_TOLERANCE.items():
         assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
@@ -117,14 +137,7 @@ def test_mixed_precision_clips_in_double(driver, shape):  # noqa: F811
 def few_nodes_driver(tmp_path_factory):
     """records_paths with room for 12 polygon corners, so most overlaps find their depth in the clipping path's
     second pass (the extent along the normal, clipped again) rather than from the kept corners."""
-    if not shutil.which("gcc"):
-        pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
-    binary = str(tmp_path_factory.mktemp("few_nodes") / "records_paths")
-    sources = [os.path.join(ROOT, "tests", "unit", "records_paths.c")] + [
-        os.path.join(ROOT, "src", name) for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c")]
-    subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-DPOLY_CLIP_MAX_NODES=12",
-                    "-I" + os.path.join(ROOT, "src")] + sources + ["-lm", "-o", binary], check=True)
-    return binary
+    return build_driver(tmp_path_factory, "few_nodes", ["-DPOLY_CLIP_MAX_NODES=12"])
 
 
 @pytest.mark.parametrize("shape", ["cube.stl", "schoenhardt.stl", "rock_10.obj"])
@@ -146,7 +159,10 @@ def test_clipping_corners_overflow(few_nodes_driver, driver, shape):  # noqa: F8
 
 def test_shapes_beyond_the_clipping_path_keep_the_others(driver):  # noqa: F811
     """icosphere_80 (80 faces, 42 vertices) is convex but has more faces than one piece and more vertices than the
-    clipping path takes; rock_40 is not convex and its pieces need more than 64 planes."""
-    for shape in ("icosphere_80.off", "rock_40.obj"):
+    clipping path takes; rock_70 is not convex and its pieces need more than 128 planes. rock_40 has pieces of 79
+    planes, more than the host's 64-bit masks hold: the host keeps the general path for it (the same bits)."""
+    for shape in ("icosphere_80.off", "rock_70.obj"):
         values, _ = run(driver, shape, 10, "double", capacity="clip")
         assert values["clip_faces"] == 0 and values["clip_pieces"] == 0
+    values, _ = run(driver, "rock_40.obj", 200, "double", capacity="clip")
+    assert values["clip_pieces"] == 19 and values["volume"] == 0 and values["centroid"] == 0
