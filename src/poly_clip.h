@@ -1,4 +1,5 @@
-/* The overlap of two convex shapes of few faces by clipping: each body's face
+/* The overlap of two shapes by clipping (convex shapes of few faces, and
+ * shapes that split into convex pieces, below): each body's face
  * polygons clipped by the other's face planes give the whole boundary of the
  * intersection (B's faces inside A, then A's faces inside B, the latter being
  * "A's surface inside B" of eq. 4.19), and the divergence theorem over those
