@@ -527,19 +527,7 @@ POLY_INLINE int poly_clip_takes(const poly_clip_faces *faces)
   return faces->num_faces > 0 && faces->num_planes <= POLY_CLIP_MAX_SHAPE_PLANES;
 }
 
-/* The overlap of A and B, B's body frame taken to A's by `rotation` (row-major) and `translation`. Returns 1
- * with `out` filled (volume 0: apart), or 0 when the pair must take the general path (flush faces). */
-POLY_INLINE int poly_clip_overlap_of(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
-                                     const double *translation, double size, int want_second, int pieces,
-                                     poly_clip_result *out);
-
-POLY_INLINE int poly_clip_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
-                                  const double *translation, double size, int want_second, poly_clip_result *out)
-{
-  return poly_clip_overlap_of(a, b, rotation, translation, size, want_second, 1, out);
-}
-
-/* As poly_clip_overlap; with `pieces` 0 (a constant, so that a GPU kernel for convex shapes carries no stack for
+/* poly_clip_overlap; with `pieces` 0 (a constant, so that a GPU kernel for convex shapes carries no stack for
  * pieces) pairs of shapes with several pieces are handed back. */
 POLY_INLINE int poly_clip_overlap_of(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
                                      const double *translation, double size, int want_second, int pieces,
@@ -561,6 +549,14 @@ POLY_INLINE int poly_clip_overlap_of(const poly_clip_faces *a, const poly_clip_f
   poly_clip_accumulator acc;
   poly_clip_accumulator_start(&acc, want_second);
   return poly_clip_pieces_overlap(a, b, xb, rotation, translation, flush, &acc, out);
+}
+
+/* The overlap of A and B, B's body frame taken to A's by `rotation` (row-major) and `translation`. Returns 1
+ * with `out` filled (volume 0: apart), or 0 when the pair must take the general path (flush faces). */
+POLY_INLINE int poly_clip_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
+                                  const double *translation, double size, int want_second, poly_clip_result *out)
+{
+  return poly_clip_overlap_of(a, b, rotation, translation, size, want_second, 1, out);
 }
 
 #endif

@@ -16,10 +16,12 @@ trap 'rm -rf "$work"' EXIT
 
 sources=("$root/tools/$name.c" "$root/src/poly_overlap.c" "$root/src/poly_shape.c" "$root/src/poly_mesh_read.c"
   "$root/src/poly_convex.c" "$root/src/poly_mesh_shell.c")
-gcc -std=c11 -O2 -Wall -Wextra -I"$root/src" "${sources[@]}" -lm -o "$work/$name"
+# BENCH_DEFINES="-DNAME ...": extra defines for the build (e.g. -DPOLY_CLIP_WIDE_MASKS, the GPU's 128-bit plane masks).
+# shellcheck disable=SC2086
+gcc -std=c11 -O2 -Wall -Wextra ${BENCH_DEFINES:-} -I"$root/src" "${sources[@]}" -lm -o "$work/$name"
 
 echo "machine: $(nproc) CPUs; $(lscpu | sed -n 's/^Model name:[[:space:]]*//p')"
-echo "compiler: $(gcc --version | head -1), -std=c11 -O2"
+echo "compiler: $(gcc --version | head -1), -std=c11 -O2 ${BENCH_DEFINES:-}"
 commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
 files="$(gcc -std=c11 -MM -I"$root/src" "${sources[@]}" | tr -d '\\' | tr ' ' '\n' | grep "^$root/" | sort -u)"
 # shellcheck disable=SC2086
