@@ -355,7 +355,7 @@ void free_shapes(DeviceShapes &s)
   cudaFree(s.clip); cudaFree(s.clip_planes); cudaFree(s.clip_loop_start); cudaFree(s.clip_loop);
   cudaFree(s.clip_triangle); cudaFree(s.clip_piece_front); cudaFree(s.clip_piece_back);
   cudaFree(s.clip_piece_point_start); cudaFree(s.clip_piece_points); cudaFree(s.clip_piece_face_start);
-  cudaFree(s.clip_piece_faces);
+  cudaFree(s.clip_piece_faces); cudaFree(s.clip_vertices);
   memset(&s, 0, sizeof s);
 }
 
@@ -624,8 +624,8 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
                        char *message, size_t message_size)
 {
   DeviceShapes &s = state.shapes;
-  std::vector<double> planes;
-  std::vector<int> loop_start, loop, triangle, point_start, points, face_start, faces;
+  std::vector<double> planes, clip_vertices;
+  std::vector<int> loop_start, loop, triangle, point_start, points, face_start, faces, first_vertex;
   std::vector<poly_clip_words> front, back;
   std::vector<int> first_plane, first_face, first_start, first_corner, first_piece, first_point_start, first_face_start,
       first_point, first_piece_face;
@@ -643,6 +643,7 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
     first_face_start.push_back((int)face_start.size());
     first_point.push_back((int)points.size());
     first_piece_face.push_back((int)faces.size());
+    first_vertex.push_back((int)clip_vertices.size() / 3);
     if (shape->num_clip_faces == 0) {
       state.all_clip = false;
       continue;
@@ -650,7 +651,10 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
     state.any_clip = true;
     const int np = shape->num_clip_pieces;
     if (np > 1) state.any_pieces = true;
-    limits.vertices = std::max(limits.vertices, shape->num_vertices);
+    const int nv = shape->clip_vertices ? shape->num_clip_vertices : shape->num_vertices;
+    const double *x = shape->clip_vertices ? shape->clip_vertices : shape->vertices;
+    clip_vertices.insert(clip_vertices.end(), x, x + 3 * nv);
+    limits.vertices = std::max(limits.vertices, nv);
     limits.planes = std::max(limits.planes, shape->num_clip_planes);
     limits.pieces = std::max(limits.pieces, np);
     planes.insert(planes.end(), shape->clip_planes, shape->clip_planes + 4 * shape->num_clip_planes);
@@ -673,7 +677,8 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
       !upload_raw(&s.clip_piece_point_start, point_start, message, message_size) ||
       !upload_raw(&s.clip_piece_points, points, message, message_size) ||
       !upload_raw(&s.clip_piece_face_start, face_start, message, message_size) ||
-      !upload_raw(&s.clip_piece_faces, faces, message, message_size))
+      !upload_raw(&s.clip_piece_faces, faces, message, message_size) ||
+      !upload_raw(&s.clip_vertices, clip_vertices, message, message_size))
     return false;
   limits.bytes = clip_warp_layout(NULL, NULL, limits);
   state.clip_limits = limits;
@@ -686,10 +691,10 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
     poly_clip_faces &f = clip[i];
     memset(&f, 0, sizeof f);
     f.num_faces = shapes[i]->num_clip_faces;
-    f.num_vertices = shapes[i]->num_vertices;
+    f.num_vertices = shapes[i]->clip_vertices ? shapes[i]->num_clip_vertices : shapes[i]->num_vertices;
     f.num_planes = shapes[i]->num_clip_planes;
     f.num_pieces = shapes[i]->num_clip_pieces;
-    f.vertices = s.vertices_d + 3 * offsets[3 * i];
+    f.vertices = s.clip_vertices + 3 * first_vertex[i];
     f.planes = s.clip_planes + 4 * first_plane[i];
     f.loop_start = s.clip_loop_start + first_start[i];
     f.loop = s.clip_loop + first_corner[i];

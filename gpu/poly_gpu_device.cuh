@@ -43,6 +43,7 @@ struct DeviceShapes {
   int *clip_loop_start, *clip_loop, *clip_triangle;
   poly_clip_words *clip_piece_front, *clip_piece_back;  // per piece (poly_clip_faces)
   int *clip_piece_point_start, *clip_piece_points, *clip_piece_face_start, *clip_piece_faces;
+  double *clip_vertices;      // per shape its clip vertices (poly_shape's, or its vertices)
 };
 
 template <typename T> struct DeviceArray {

@@ -34,6 +34,7 @@
 #include <math.h>
 
 #include "poly_clip_limits.h"
+#include "poly_clip_polygon.h"
 #include "poly_rigid.h"
 
 POLY_INLINE int poly_clip_mask_lowest(poly_clip_mask mask)
@@ -100,32 +101,6 @@ typedef struct poly_clip_accumulator {
   double direction[3], low, high;
   double nodes[3 * POLY_CLIP_MAX_NODES];
 } poly_clip_accumulator;
-
-/* Clips polygon `in` (count corners, 3 each) by the half-space n.x <= d into `out`; returns the new count.
- * Each corner's side is computed once. */
-POLY_INLINE int poly_clip_polygon(const double *in, int count, const double *plane, double *out)
-{
-  double side[POLY_CLIP_MAX_POLYGON];
-  for (int i = 0; i < count; i++)
-    side[i] = plane[0] * in[3 * i] + plane[1] * in[3 * i + 1] + plane[2] * in[3 * i + 2] - plane[3];
-  int n = 0;
-  for (int i = 0; i < count; i++) {
-    int j = i + 1 == count ? 0 : i + 1;
-    const double *p = in + 3 * i, *q = in + 3 * j;
-    double sp = side[i], sq = side[j];
-    if (sp <= 0.0) {
-      out[3 * n] = p[0], out[3 * n + 1] = p[1], out[3 * n + 2] = p[2];
-      n++;
-    }
-    if ((sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0)) {
-      double t = sp / (sp - sq);
-      out[3 * n] = p[0] + t * (q[0] - p[0]), out[3 * n + 1] = p[1] + t * (q[1] - p[1]),
-      out[3 * n + 2] = p[2] + t * (q[2] - p[2]);
-      n++;
-    }
-  }
-  return n;
-}
 
 /* Adds a boundary polygon (outward counter-clockwise) as fan tetrahedra from the origin; with `on_a`, also
  * its area vector and area (A's surface inside B). */
@@ -392,8 +367,9 @@ POLY_INLINE int poly_clip_face_by_piece(const poly_clip_faces *body, int face, c
 }
 
 /* The faces `faces` of `body` clipped by a piece of the other body (as poly_clip_face_by_piece); each surviving
- * polygon accumulated. */
-POLY_INLINE void poly_clip_faces_by_piece(const poly_clip_faces *body, const int *faces, int num_faces,
+ * polygon accumulated. Returns 0 when a polygon could outgrow the work buffers (the pair goes to the general
+ * path). */
+POLY_INLINE int poly_clip_faces_by_piece(const poly_clip_faces *body, const int *faces, int num_faces,
                                           const double *x, const poly_clip_mask *ahead, const poly_clip_mask *behind,
                                           const double *planes, poly_clip_mask front, poly_clip_mask back, int on_a,
                                           poly_clip_accumulator *acc)
@@ -402,8 +378,10 @@ POLY_INLINE void poly_clip_faces_by_piece(const poly_clip_faces *body, const int
   for (int i = 0; i < num_faces; i++) {
     int n = poly_clip_face_by_piece(body, faces[i], x, ahead, behind, planes, front, back, work[0], work[1],
                                     POLY_CLIP_MAX_POLYGON, &polygon);
+    if (n < 0) return 0;
     if (n >= 3) poly_clip_accumulate(acc, polygon, n, on_a);
   }
+  return 1;
 }
 
 /* The pieces' sides: per piece, the planes all its points are in front of, and behind. */
@@ -455,12 +433,13 @@ POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_cl
         if ((piece_ahead_b[j] & front_a) | (piece_behind_b[j] & back_a) | (piece_ahead_a[i] & front_b) |
             (piece_behind_a[i] & back_b))
           continue;  /* a plane of one piece has the other wholly outside */
-        poly_clip_faces_by_piece(b, b->piece_faces + b->piece_face_start[j],
-                                 b->piece_face_start[j + 1] - b->piece_face_start[j], xb, ahead_b, behind_b,
-                                 a->planes, front_a, back_a, 0, acc);
-        poly_clip_faces_by_piece(a, a->piece_faces + a->piece_face_start[i],
-                                 a->piece_face_start[i + 1] - a->piece_face_start[i], a->vertices, ahead_a,
-                                 behind_a, planes_b, front_b, back_b, 1, acc);
+        if (!poly_clip_faces_by_piece(b, b->piece_faces + b->piece_face_start[j],
+                                      b->piece_face_start[j + 1] - b->piece_face_start[j], xb, ahead_b, behind_b,
+                                      a->planes, front_a, back_a, 0, acc) ||
+            !poly_clip_faces_by_piece(a, a->piece_faces + a->piece_face_start[i],
+                                      a->piece_face_start[i + 1] - a->piece_face_start[i], a->vertices, ahead_a,
+                                      behind_a, planes_b, front_b, back_b, 1, acc))
+          return 0;
       }
     }
     if (pass == 0 && poly_clip_finish(acc, translation, out)) return 1;
@@ -521,10 +500,12 @@ POLY_INLINE int poly_clip_convex_overlap(const poly_clip_faces *a, const poly_cl
   return 1;
 }
 
-/* Does the clipping path take this shape here: clip faces, and (pieces) no more planes than the masks hold? */
+/* Does the host's clipping path take this shape: clip faces, no more planes than the masks hold, and (pieces) no
+ * more faces than POLY_CLIP_HOST_PIECE_FACES? */
 POLY_INLINE int poly_clip_takes(const poly_clip_faces *faces)
 {
-  return faces->num_faces > 0 && faces->num_planes <= POLY_CLIP_MAX_SHAPE_PLANES;
+  return faces->num_faces > 0 && faces->num_planes <= POLY_CLIP_MAX_SHAPE_PLANES &&
+         (faces->num_pieces == 1 || faces->num_faces <= POLY_CLIP_HOST_PIECE_FACES);
 }
 
 /* poly_clip_overlap; with `pieces` 0 (a constant, so that a GPU kernel for convex shapes carries no stack for

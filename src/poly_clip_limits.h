@@ -3,13 +3,19 @@
 #ifndef POLY_CLIP_LIMITS_H
 #define POLY_CLIP_LIMITS_H
 
-#define POLY_CLIP_MAX_PLANES 16    /* planes of one convex piece (a bit each in the side masks) */
+#define POLY_CLIP_MAX_PLANES 16    /* faces of a convex shape (a bit each in the side masks), planes of a cone */
 #define POLY_CLIP_MAX_FACES 96     /* faces of a shape the clipping path takes */
-#define POLY_CLIP_MAX_VERTICES 40  /* vertices of a shape */
+#define POLY_CLIP_MAX_VERTICES 64  /* vertices of a shape (its pieces' new corners included) */
 #define POLY_CLIP_MAX_PIECES 32    /* convex pieces of a shape that is not convex */
 #define POLY_CLIP_SHAPE_PLANES 128  /* planes of all the pieces of a shape (a bit each in a stored mask) */
 #define POLY_CLIP_MAX_LOOP 16      /* corners of one face */
-#define POLY_CLIP_MAX_POLYGON (POLY_CLIP_MAX_LOOP + POLY_CLIP_MAX_PLANES)
+/* Planes of one piece of a shape that is not convex: a triangle clipped by a piece of more planes can outgrow the
+ * GPU warp kernel's 12-corner polygons (rock_40's partition has a piece of 30, which a trial build handed mostly to
+ * the one-thread kernel; its cones' pieces have at most 8: doc/benchmarks.md). */
+#ifndef POLY_CLIP_MAX_PIECE_PLANES
+#define POLY_CLIP_MAX_PIECE_PLANES 16
+#endif
+#define POLY_CLIP_MAX_POLYGON (POLY_CLIP_MAX_LOOP + POLY_CLIP_MAX_PIECE_PLANES)
 #define POLY_CLIP_MAX_POLYGONS 64  /* clipped polygons of one pair */
 #ifndef POLY_CLIP_MAX_NODES        /* polygon corners kept for the depth (a GPU thread's stack holds them) */
 #ifdef __CUDACC__
@@ -19,6 +25,12 @@
 #endif
 #endif
 #define POLY_CLIP_FLUSH 1e-9
+/* The host clips the pieces of shapes of at most this many faces (their triangles' parts): rock_20's 34 as fast as
+ * its cones, which beat its general path; with more (rock_40's partition: 67 faces, 12.1 us a pair against 8.6 by
+ * the general path) the general path is faster on a core (doc/benchmarks.md). The GPU takes all. */
+#ifndef POLY_CLIP_HOST_PIECE_FACES
+#define POLY_CLIP_HOST_PIECE_FACES 48
+#endif
 
 /* A piece's planes as stored: bit k of the shape's plane k, in two words. */
 typedef struct poly_clip_words {

@@ -5,9 +5,11 @@
  * (poly_clip.h). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
-#include "poly_clip_limits.h"
+#include "poly_clip_polygon.h"
 #include "poly_shape.h"
+#include "poly_convex_partition_impl.h"
 
 static int face_root(int *parent, int t)
 {
@@ -206,17 +208,21 @@ static int shape_plane(double *planes, int *count, const double *plane, int *opp
   return (*count)++;
 }
 
-/* Convex pieces of a shape that is not convex: when every triangle's plane has the centre of mass (the origin)
+/* Convex pieces of a shape that is not convex: first the partition by the shape's own face planes
+ * (poly_convex_partition_impl.h: fewer and fatter pieces, no planes but the faces'; Schoenhardt 2.2 us a pair on a
+ * core against 3.0 us by the cones below). When that needs more than the path holds (rock_40, rock_70: a piece of
+ * more than POLY_CLIP_MAX_PIECE_PLANES planes), and every triangle's plane has the centre of mass (the origin)
  * behind it by a millionth of the size, the cones from it over the triangles tile the shape; neighbouring
  * cones are merged, greedily, while their union stays convex with at most POLY_CLIP_MAX_PLANES planes. The
  * shape's faces for the clipping path are then its triangles. Leaves the shape without pieces (not an error)
- * when it is not star-shaped from its centre or needs more pieces, planes, faces or vertices than the path
- * takes. */
+ * when neither gives pieces the path takes. POLY_PIECES_BY_CONES set in the environment skips the partition (a
+ * benchmark's before and after in one build, doc/benchmarks.md). */
 static poly_status find_pieces(poly_shape *shape)
 {
   const int nt = shape->num_triangles, nv = shape->num_vertices, ne = shape->num_edges;
   const double radius = shape->bounding_radius, tolerance = 1e-12 * radius;
-  if (nt > POLY_CLIP_MAX_FACES || nv > POLY_CLIP_MAX_VERTICES) return POLY_OK;
+  if (!getenv("POLY_PIECES_BY_CONES") && partition_pieces(shape)) return POLY_OK;
+  if (nt > POLY_CLIP_MAX_FACES || nv >= POLY_CLIP_MAX_VERTICES) return POLY_OK;
   for (int t = 0; t < nt; t++) {
     const double *n = shape->face_normals + 3 * t, *corner = shape->vertices + 3 * shape->triangles[3 * t];
     if (n[0] * corner[0] + n[1] * corner[1] + n[2] * corner[2] < 1e-6 * radius) return POLY_OK;
@@ -365,6 +371,9 @@ void poly_shape_free_faces(poly_shape *shape)
   free(shape->clip_piece_points);
   free(shape->clip_piece_face_start);
   free(shape->clip_piece_faces);
+  free(shape->clip_vertices);
+  shape->clip_vertices = NULL;
+  shape->num_clip_vertices = 0;
   shape->face_of = shape->ridges = shape->support = NULL;
   shape->clip_planes = NULL;
   shape->clip_loop_start = shape->clip_loop = shape->clip_face_triangle = NULL;

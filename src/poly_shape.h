@@ -88,10 +88,10 @@ typedef struct poly_shape {
   int *support;
   int num_support;
   /* The clipping path's shapes (poly_clip.h; NULL, 0 otherwise): convex shapes of at most POLY_CLIP_MAX_PLANES
-   * faces, and shapes that are not convex but star-shaped from their centre of mass that split into at most
-   * POLY_CLIP_MAX_PIECES convex pieces (their faces are their triangles). Per face its plane (unit outward
+   * faces, and shapes that are not convex but split into at most POLY_CLIP_MAX_PIECES convex pieces (their
+   * faces are their triangles, or the triangles' parts on each piece). Per face its plane (unit outward
    * normal and offset, 4 each) and its corners in order, counter-clockwise seen from outside
-   * (clip_loop[clip_loop_start[f] ...]). */
+   * (clip_loop[clip_loop_start[f] ...], indices into the clip vertices). */
   double *clip_planes;
   int *clip_loop_start;
   int *clip_loop;
@@ -99,10 +99,14 @@ typedef struct poly_shape {
   int num_clip_faces;
   /* The convex pieces (poly_clip_faces): clip_planes holds num_clip_planes planes, the faces' first for a
    * convex shape (one piece); per piece the masks of the planes it lies behind and in front of, its corners
-   * (vertex indices, num_vertices for the centre of mass) and its faces, each a CSR list. */
+   * (clip vertex indices; for the cones, num_vertices is the centre of mass) and its faces, each a CSR list. */
   int num_clip_planes, num_clip_pieces;
   poly_clip_words *clip_piece_front, *clip_piece_back;
   int *clip_piece_point_start, *clip_piece_points, *clip_piece_face_start, *clip_piece_faces;
+  /* The points the faces' loops and the pieces' corners index when the pieces cut the triangles (the shape's
+   * vertices first, then the new corners; poly_convex_partition_impl.h); NULL, 0: the shape's vertices. */
+  double *clip_vertices;
+  int num_clip_vertices;
 } poly_shape;
 
 /* Reads a mesh; the format is chosen by extension (.stl, .obj, .off, any case).

@@ -100,12 +100,13 @@ def wide_driver(tmp_path_factory):
 @pytest.mark.parametrize("shape,wide", [("schoenhardt.stl", False), ("rock_10.obj", False), ("rock_20.obj", False),
                                         ("schoenhardt.stl", True), ("rock_40.obj", True)])
 def test_pieces_path_agrees_with_the_general_path(driver, wide_driver, shape, wide):  # noqa: F811
-    """Shapes that are not convex take the clipping path through convex pieces (cones from the centre of mass over
-    patches of the surface, src/poly_convex.c): each body's faces clipped by each of the other's pieces that no
-    plane parts from one of its own. Against the general records path on the same poses and tolerances as the
-    convex shapes above, with the host's 64-bit plane masks and the GPU's 128-bit ones. The pieces' inner planes
-    widen the flush band (identical bodies at the same orientation put vertices on them), so more pairs go to the
-    general path, still few."""
+    """Shapes that are not convex take the clipping path through convex pieces (a partition of space by the
+    shape's own face planes, src/poly_convex_partition_impl.h; the triangles cut where the pieces meet on them):
+    each body's faces clipped by each of the other's pieces that no plane parts from one of its own. Against the
+    general records path on the same poses and tolerances as the convex shapes above, with the host's 64-bit plane
+    masks and the GPU's 128-bit ones (rock_40, whose partition has a piece of more than 16 planes, through its
+    cones from the centre of mass and their 79 planes). The pieces' inner planes widen the flush band (identical bodies at the same orientation put vertices on
+    them), so more pairs go to the general path, still few."""
     values, log = run(wide_driver if wide else driver, shape, 2000, "double", capacity="clip")
     assert values["clip_faces"] >= 8 and values["clip_pieces"] >= 2 and values["overlapping"] >= 800
     for quantity, limit in CLIP_TOLERANCE.items():
@@ -159,10 +160,44 @@ def test_clipping_corners_overflow(few_nodes_driver, driver, shape):  # noqa: F8
 
 def test_shapes_beyond_the_clipping_path_keep_the_others(driver):  # noqa: F811
     """icosphere_80 (80 faces, 42 vertices) is convex but has more faces than one piece and more vertices than the
-    clipping path takes; rock_70 is not convex and its pieces need more than 128 planes. rock_40 has pieces of 79
+    clipping path takes; rock_70 is not convex, its partition has a piece of more than 16 planes and its cones
+    need more than 128 planes. rock_40's partition has such a piece too, so it has the cones' 19 pieces of 79
     planes, more than the host's 64-bit masks hold: the host keeps the general path for it (the same bits)."""
     for shape in ("icosphere_80.off", "rock_70.obj"):
         values, _ = run(driver, shape, 10, "double", capacity="clip")
         assert values["clip_faces"] == 0 and values["clip_pieces"] == 0
     values, _ = run(driver, "rock_40.obj", 200, "double", capacity="clip")
-    assert values["clip_pieces"] == 19 and values["volume"] == 0 and values["centroid"] == 0
+    assert values["clip_pieces"] == 19 and values["clip_planes"] == 79
+    assert values["volume"] == 0 and values["centroid"] == 0 and values["fallbacks"] == 0
+
+
+def u_prism_obj():
+    """A U-shaped prism: the U (0,0) (3,0) (3,1) (3,3) (2,3) (2,1) (1,1) (1,3) (0,3) (0,1) extruded over z in [0, 1].
+    Its centre of mass, (1.5, 1.357), lies in the gap between the arms, so it is not star-shaped from there."""
+    outline = [(0, 0), (3, 0), (3, 1), (3, 3), (2, 3), (2, 1), (1, 1), (1, 3), (0, 3), (0, 1)]
+    lines = [f"v {x} {y} {z}" for z in (0, 1) for x, y in outline]
+    n = len(outline)
+    cap = [(0, 1, 2), (0, 2, 5), (0, 5, 6), (0, 6, 9), (9, 6, 7), (9, 7, 8), (5, 2, 3), (5, 3, 4)]
+    faces = [(c, b, a) for a, b, c in cap] + [(a + n, b + n, c + n) for a, b, c in cap]
+    for i in range(n):
+        j = (i + 1) % n
+        faces += [(i, j, j + n), (i, j + n, i + n)]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in faces]
+    return "\n".join(lines) + "\n"
+
+
+def test_partition_takes_shapes_not_star_shaped(driver, tmp_path):  # noqa: F811
+    """The cones from the centre of mass cannot split a U-shaped prism (its centre is outside it); the partition by
+    its face planes can, into the fewest convex pieces, 3 (the bar and the two arms), and they give the general
+    path's overlaps (same tolerances as above). Their planes are the shape's own: the U's 9 distinct face planes
+    (the two ends of the arms share one), Schoenhardt's 8 (the cones had 20)."""
+    path = tmp_path / "u_prism.obj"
+    path.write_text(u_prism_obj())
+    values, log = run(driver, str(path), 2000, "double", capacity="clip")
+    assert values["clip_pieces"] == 3 and values["clip_planes"] == 9 and values["overlapping"] >= 800, log
+    for quantity, limit in CLIP_TOLERANCE.items():
+        assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
+    assert values["flag_differences"] == 0 and values["wrongly_filtered"] == 0, log
+    assert values["smoothed"] <= values["fallbacks"] <= 0.2 * values["poses"], log
+    values, _ = run(driver, "schoenhardt.stl", 10, "double", capacity="clip")
+    assert values["clip_pieces"] >= 2 and values["clip_planes"] == 8

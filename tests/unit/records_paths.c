@@ -228,6 +228,7 @@ int main(int argc, char **argv)
          clip_mode ? ws_d.clip_fallbacks : precision == POLY_PRECISION_DOUBLE ? ws_d.convex_fallbacks : ws_f.convex_fallbacks);
   printf("clip_faces %d\n", view_d.clip.num_faces);
   printf("clip_pieces %d\n", view_d.clip.num_pieces);
+  printf("clip_planes %d\nclip_vertices %d\n", view_d.clip.num_planes, view_d.clip.num_vertices);
   printf("volume %.3e\ncentroid %.3e\nnormal %.3e\narea %.3e\ndepth %.3e\nsecond_moment %.3e\nflag_differences %d\n",
          worst_volume, worst_centroid, worst_normal, worst_area, worst_depth, worst_second, flag_differences);
   printf("filtered %d\nwrongly_filtered %d\nhinted %d\n", filtered, wrongly_filtered, hinted);
