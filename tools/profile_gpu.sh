@@ -65,5 +65,5 @@ for shape in $shapes; do
   echo "== stalls, $shape (first profiled kernel)"
   ncu --clock-control none --kernel-name "$kernels" --launch-skip 1 --launch-count 1 --section WarpStateStats \
     "$driver" "$root/examples/shapes" "$pairs" "$precision" bed "$shape" 2>&1 |
-    grep -iE 'stall|warp cycles per|active threads|^  [a-z_]+' | cut -c1-160 | head -24 || true
+    grep -iE -A2 'warp cycles per|active threads|being stalled|^  [a-z_]+' | grep -v -- '^--$' | cut -c1-160 | head -24 || true
 done
