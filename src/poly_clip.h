@@ -77,6 +77,10 @@ typedef struct poly_clip_faces {
   const poly_clip_words *piece_front, *piece_back;
   const int *piece_point_start, *piece_points;  /* per piece its corners; index num_vertices is the origin */
   const int *piece_face_start, *piece_faces;    /* per piece the faces on its surface */
+  /* Per plane the index in the shape's supporting triangles (poly_shape's support) of one on it, or -1, and the
+   * mask of the planes that have one: a body wholly in front of such a plane is apart (pieces only). */
+  const int *plane_support;
+  poly_clip_words support_planes;
 } poly_clip_faces;
 
 /* What the clipping gives, in A's body frame (the caller turns it to world). */
@@ -422,6 +426,21 @@ POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_cl
       !poly_clip_sides_of_planes(a->vertices, a->num_vertices, origin, planes_b, b->num_planes, flush, ahead_a,
                                  behind_a))
     return 0;
+  /* A supporting plane of one with every point of the other in front of it parts them: the code of its triangle
+   * is the pair style's hint for the next step (poly_overlap_still_separated), as for convex pairs. */
+  if (a->plane_support && b->plane_support) {
+    poly_clip_mask parting_a = poly_clip_mask_of(&a->support_planes), parting_b = poly_clip_mask_of(&b->support_planes);
+    for (int v = 0; v < b->num_vertices; v++) parting_a &= ahead_b[v];
+    for (int v = 0; v < a->num_vertices; v++) parting_b &= ahead_a[v];
+    if (parting_a) {
+      out->separating = a->plane_support[poly_clip_mask_lowest(parting_a)] << 1;
+      return 1;
+    }
+    if (parting_b) {
+      out->separating = (b->plane_support[poly_clip_mask_lowest(parting_b)] << 1) | 1;
+      return 1;
+    }
+  }
   poly_clip_piece_sides(b, ahead_b, behind_b, piece_ahead_b, piece_behind_b);
   poly_clip_piece_sides(a, ahead_a, behind_a, piece_ahead_a, piece_behind_a);
   for (int pass = 0; pass < 2; pass++) {

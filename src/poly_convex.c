@@ -208,6 +208,31 @@ static int shape_plane(double *planes, int *count, const double *plane, int *opp
   return (*count)++;
 }
 
+/* Per plane of the pieces, a supporting triangle on it (its index in shape->support), for the pieces' separation
+ * test (poly_clip_pieces_overlap). */
+static poly_status find_plane_support(poly_shape *shape)
+{
+  const int np = shape->num_clip_planes;
+  const double tolerance = 1e-12 * shape->bounding_radius;
+  shape->clip_plane_support = (int *)malloc(sizeof(int) * (size_t)(np > 0 ? np : 1));
+  if (!shape->clip_plane_support) return POLY_ERROR_MEMORY;
+  for (int k = 0; k < np; k++) {
+    const double *q = shape->clip_planes + 4 * k;
+    shape->clip_plane_support[k] = -1;
+    for (int m = 0; m < shape->num_support && shape->clip_plane_support[k] < 0; m++) {
+      const int t = shape->support[m];
+      const double *n = shape->face_normals + 3 * t, *x = shape->vertices + 3 * shape->triangles[3 * t];
+      if (n[0] * q[0] + n[1] * q[1] + n[2] * q[2] > 1.0 - 1e-12 &&
+          fabs(n[0] * x[0] + n[1] * x[1] + n[2] * x[2] - q[3]) <= tolerance)
+        shape->clip_plane_support[k] = m;
+    }
+    if (shape->clip_plane_support[k] < 0) continue;
+    if (k < 64) shape->clip_support_planes.low |= 1ull << k;
+    else shape->clip_support_planes.high |= 1ull << (k - 64);
+  }
+  return POLY_OK;
+}
+
 /* Convex pieces of a shape that is not convex: first the partition by the shape's own face planes
  * (poly_convex_partition_impl.h: fewer and fatter pieces, no planes but the faces'; Schoenhardt 2.2 us a pair on a
  * core against 3.0 us by the cones below). When that needs more than the path holds (rock_40, rock_70: a piece of
@@ -221,7 +246,7 @@ static poly_status find_pieces(poly_shape *shape)
 {
   const int nt = shape->num_triangles, nv = shape->num_vertices, ne = shape->num_edges;
   const double radius = shape->bounding_radius, tolerance = 1e-12 * radius;
-  if (!getenv("POLY_PIECES_BY_CONES") && partition_pieces(shape)) return POLY_OK;
+  if (!getenv("POLY_PIECES_BY_CONES") && partition_pieces(shape)) return find_plane_support(shape);
   if (nt > POLY_CLIP_MAX_FACES || nv >= POLY_CLIP_MAX_VERTICES) return POLY_OK;
   for (int t = 0; t < nt; t++) {
     const double *n = shape->face_normals + 3 * t, *corner = shape->vertices + 3 * shape->triangles[3 * t];
@@ -337,6 +362,7 @@ static poly_status find_pieces(poly_shape *shape)
     shape->clip_piece_face_start = face_start;
     shape->clip_piece_faces = faces;
     shape->num_clip_pieces = num_pieces;
+    status = find_plane_support(shape);
   } else {
     free(planes);
     free(loop_start);
@@ -372,6 +398,9 @@ void poly_shape_free_faces(poly_shape *shape)
   free(shape->clip_piece_face_start);
   free(shape->clip_piece_faces);
   free(shape->clip_vertices);
+  free(shape->clip_plane_support);
+  shape->clip_plane_support = NULL;
+  shape->clip_support_planes.low = shape->clip_support_planes.high = 0ull;
   shape->clip_vertices = NULL;
   shape->num_clip_vertices = 0;
   shape->face_of = shape->ridges = shape->support = NULL;

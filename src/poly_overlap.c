@@ -27,6 +27,8 @@ static poly_clip_faces clip_faces_of(const poly_shape *shape)
   clip.piece_points = shape->clip_piece_points;
   clip.piece_face_start = shape->clip_piece_face_start;
   clip.piece_faces = shape->clip_piece_faces;
+  clip.plane_support = shape->clip_plane_support;
+  clip.support_planes = shape->clip_support_planes;
   return clip;
 }
 

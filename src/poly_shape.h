@@ -107,6 +107,10 @@ typedef struct poly_shape {
    * vertices first, then the new corners; poly_convex_partition_impl.h); NULL, 0: the shape's vertices. */
   double *clip_vertices;
   int num_clip_vertices;
+  /* Per clip plane of the pieces the index in `support` of a supporting triangle on it, or -1; the mask of those
+   * that have one. */
+  int *clip_plane_support;
+  poly_clip_words clip_support_planes;
 } poly_shape;
 
 /* Reads a mesh; the format is chosen by extension (.stl, .obj, .off, any case).

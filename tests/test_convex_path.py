@@ -113,6 +113,8 @@ def test_pieces_path_agrees_with_the_general_path(driver, wide_driver, shape, wi
         assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
     assert values["flag_differences"] == 0 and values["wrongly_filtered"] == 0, log
     assert values["smoothed"] <= values["fallbacks"] <= 0.1 * values["poses"]
+    # Pairs a supporting plane parts say which (the pair style's hint), and the code names a plane that parts them.
+    assert values["codes_given"] >= 10 and values["codes_holding"] == values["codes_given"], log
 
 
 CLIP_MIXED_TOLERANCE = {"volume": 1e-6, "centroid": 1e-6, "area": 1e-6, "depth": 1e-5, "second_moment": 1e-6,

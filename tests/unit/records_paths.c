@@ -128,6 +128,7 @@ int main(int argc, char **argv)
   double worst_volume = 0, worst_centroid = 0, worst_normal = 0, worst_area = 0, worst_depth = 0, worst_second = 0;
   double worst_normal_scaled = 0;
   int flag_differences = 0, overlapping = 0, smoothed = 0, filtered = 0, wrongly_filtered = 0, hinted = 0;
+  int codes_given = 0, codes_holding = 0; /* results' own separating codes, and those that part the pair as given */
   for (int p = 0; p < num_poses; p++) {
     poly_pose a = {{0, 0, 0}, {1, 0, 0, 0}}, b = {{0, 0, 0}, {1, 0, 0, 0}};
     if (p % 8 == 5) {
@@ -182,6 +183,12 @@ int main(int argc, char **argv)
     }
     hinted += by_code;
     parted |= by_code;
+    if (fast.separating >= 0) {
+      codes_given++;
+      codes_holding += precision == POLY_PRECISION_DOUBLE
+                           ? poly_overlap_still_separated_d(&view_d, &a, &view_d, &b, fast.separating)
+                           : poly_overlap_still_separated_f(&view_f, &a, &view_f, &b, fast.separating);
+    }
     if (parted) {
       filtered++;
       ws_d.use_filter = ws_f.use_filter = 0;
@@ -232,6 +239,7 @@ int main(int argc, char **argv)
   printf("volume %.3e\ncentroid %.3e\nnormal %.3e\narea %.3e\ndepth %.3e\nsecond_moment %.3e\nflag_differences %d\n",
          worst_volume, worst_centroid, worst_normal, worst_area, worst_depth, worst_second, flag_differences);
   printf("filtered %d\nwrongly_filtered %d\nhinted %d\n", filtered, wrongly_filtered, hinted);
+  printf("codes_given %d\ncodes_holding %d\n", codes_given, codes_holding);
   printf("normal_scaled %.3e\n", worst_normal_scaled);
   poly_overlap_workspace_destroy_d(&ws_d);
   poly_overlap_workspace_destroy_f(&ws_f);
