@@ -320,15 +320,21 @@ POLY_INLINE int poly_clip_point_sides(const double *p, const double *planes, int
   return near;
 }
 
-/* Each of `count` points `x` (and the point `apex` after them) against `num_planes` planes (poly_clip_point_sides);
- * 0 when one of the points (not the apex) is within `flush` of a plane (the pair goes to the general path). */
+/* Each of `count` points `x` (and the point `apex` after them) against `num_planes` planes (poly_clip_point_sides),
+ * and in *all_ahead the planes all `count` points are in front of; 0 when one of the points (not the apex) is
+ * within `flush` of a plane (the pair goes to the general path). */
 POLY_INLINE int poly_clip_sides_of_planes(const double *x, int count, const double *apex, const double *planes,
-                                          int num_planes, double flush, poly_clip_mask *ahead, poly_clip_mask *behind)
+                                          int num_planes, double flush, poly_clip_mask *ahead, poly_clip_mask *behind,
+                                          poly_clip_mask *all_ahead)
 {
-  for (int v = 0; v <= count; v++)
+  poly_clip_mask all = ~(poly_clip_mask)0;
+  for (int v = 0; v <= count; v++) {
     if (poly_clip_point_sides(v < count ? x + 3 * v : apex, planes, num_planes, flush, ahead + v, behind + v) &&
         v < count)
       return 0;
+    if (v < count) all &= ahead[v];
+  }
+  *all_ahead = all;
   return 1;
 }
 
@@ -420,26 +426,23 @@ POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_cl
     poly_matrix_apply(rotation, b->planes + 4 * f, plane);
     plane[3] = b->planes[4 * f + 3] + plane[0] * translation[0] + plane[1] * translation[1] + plane[2] * translation[2];
   }
-  const double origin[3] = {0.0, 0.0, 0.0};
-  if (!poly_clip_sides_of_planes(xb, b->num_vertices, translation, a->planes, a->num_planes, flush, ahead_b,
-                                 behind_b) ||
-      !poly_clip_sides_of_planes(a->vertices, a->num_vertices, origin, planes_b, b->num_planes, flush, ahead_a,
-                                 behind_a))
-    return 0;
   /* A supporting plane of one with every point of the other in front of it parts them: the code of its triangle
    * is the pair style's hint for the next step (poly_overlap_still_separated), as for convex pairs. */
-  if (a->plane_support && b->plane_support) {
-    poly_clip_mask parting_a = poly_clip_mask_of(&a->support_planes), parting_b = poly_clip_mask_of(&b->support_planes);
-    for (int v = 0; v < b->num_vertices; v++) parting_a &= ahead_b[v];
-    for (int v = 0; v < a->num_vertices; v++) parting_b &= ahead_a[v];
-    if (parting_a) {
-      out->separating = a->plane_support[poly_clip_mask_lowest(parting_a)] << 1;
-      return 1;
-    }
-    if (parting_b) {
-      out->separating = (b->plane_support[poly_clip_mask_lowest(parting_b)] << 1) | 1;
-      return 1;
-    }
+  const double origin[3] = {0.0, 0.0, 0.0};
+  poly_clip_mask parting;
+  if (!poly_clip_sides_of_planes(xb, b->num_vertices, translation, a->planes, a->num_planes, flush, ahead_b,
+                                 behind_b, &parting))
+    return 0;
+  if (a->plane_support && (parting &= poly_clip_mask_of(&a->support_planes))) {
+    out->separating = a->plane_support[poly_clip_mask_lowest(parting)] << 1;
+    return 1;
+  }
+  if (!poly_clip_sides_of_planes(a->vertices, a->num_vertices, origin, planes_b, b->num_planes, flush, ahead_a,
+                                 behind_a, &parting))
+    return 0;
+  if (b->plane_support && (parting &= poly_clip_mask_of(&b->support_planes))) {
+    out->separating = (b->plane_support[poly_clip_mask_lowest(parting)] << 1) | 1;
+    return 1;
   }
   poly_clip_piece_sides(b, ahead_b, behind_b, piece_ahead_b, piece_behind_b);
   poly_clip_piece_sides(a, ahead_a, behind_a, piece_ahead_a, piece_behind_a);

@@ -139,6 +139,17 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
                                          double *local_normal, poly_overlap_result *result)            \
   {                                                                                                   \
     if (!ws->use_clip || !poly_clip_takes(&a->clip) || !poly_clip_takes(&b->clip)) return 0;          \
+    if (a->clip.num_pieces > 1 || b->clip.num_pieces > 1) {                                           \
+      /* The general path's slab first: an apart pair of pieces costs a projection, not every piece. */ \
+      double axis[3], extent_a, extent_b;                                                             \
+      if (poly_overlap_slab##SUFFIX(a, b, rotation, translation, axis, &extent_a, &extent_b)) {       \
+        memset(result, 0, sizeof *result);                                                            \
+        result->filtered_out = 1;                                                                     \
+        result->separating = -1;                                                                      \
+        ws->num_points = 0;                                                                           \
+        return 1;                                                                                     \
+      }                                                                                               \
+    }                                                                                                 \
     poly_clip_result clip;                                                                            \
     if (!poly_clip_overlap(&a->clip, &b->clip, rotation, translation,                                 \
                            (double)a->bounding_radius + (double)b->bounding_radius, ws->want_second_moment, &clip)) { \
