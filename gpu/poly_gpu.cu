@@ -355,7 +355,7 @@ void free_shapes(DeviceShapes &s)
   cudaFree(s.clip); cudaFree(s.clip_planes); cudaFree(s.clip_loop_start); cudaFree(s.clip_loop);
   cudaFree(s.clip_triangle); cudaFree(s.clip_piece_front); cudaFree(s.clip_piece_back);
   cudaFree(s.clip_piece_point_start); cudaFree(s.clip_piece_points); cudaFree(s.clip_piece_face_start);
-  cudaFree(s.clip_piece_faces); cudaFree(s.clip_vertices);
+  cudaFree(s.clip_piece_faces); cudaFree(s.clip_vertices); cudaFree(s.clip_face_plane);
   memset(&s, 0, sizeof s);
 }
 
@@ -625,7 +625,7 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
 {
   DeviceShapes &s = state.shapes;
   std::vector<double> planes, clip_vertices;
-  std::vector<int> loop_start, loop, triangle, point_start, points, face_start, faces, first_vertex;
+  std::vector<int> loop_start, loop, triangle, point_start, points, face_start, faces, first_vertex, face_plane;
   std::vector<poly_clip_words> front, back;
   std::vector<int> first_plane, first_face, first_start, first_corner, first_piece, first_point_start, first_face_start,
       first_point, first_piece_face;
@@ -661,6 +661,7 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
     loop_start.insert(loop_start.end(), shape->clip_loop_start, shape->clip_loop_start + shape->num_clip_faces + 1);
     loop.insert(loop.end(), shape->clip_loop, shape->clip_loop + shape->clip_loop_start[shape->num_clip_faces]);
     triangle.insert(triangle.end(), shape->clip_face_triangle, shape->clip_face_triangle + shape->num_clip_faces);
+    for (int f = 0; f < shape->num_clip_faces; f++) face_plane.push_back(shape->clip_face_plane ? shape->clip_face_plane[f] : -1);
     front.insert(front.end(), shape->clip_piece_front, shape->clip_piece_front + np);
     back.insert(back.end(), shape->clip_piece_back, shape->clip_piece_back + np);
     point_start.insert(point_start.end(), shape->clip_piece_point_start, shape->clip_piece_point_start + np + 1);
@@ -678,7 +679,8 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
       !upload_raw(&s.clip_piece_points, points, message, message_size) ||
       !upload_raw(&s.clip_piece_face_start, face_start, message, message_size) ||
       !upload_raw(&s.clip_piece_faces, faces, message, message_size) ||
-      !upload_raw(&s.clip_vertices, clip_vertices, message, message_size))
+      !upload_raw(&s.clip_vertices, clip_vertices, message, message_size) ||
+      !upload_raw(&s.clip_face_plane, face_plane, message, message_size))
     return false;
   limits.bytes = clip_warp_layout(NULL, NULL, limits);
   state.clip_limits = limits;
@@ -695,6 +697,7 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
     f.num_planes = shapes[i]->num_clip_planes;
     f.num_pieces = shapes[i]->num_clip_pieces;
     f.vertices = s.clip_vertices + 3 * first_vertex[i];
+    f.face_plane = shapes[i]->clip_face_plane ? s.clip_face_plane + first_face[i] : NULL;
     f.planes = s.clip_planes + 4 * first_plane[i];
     f.loop_start = s.clip_loop_start + first_start[i];
     f.loop = s.clip_loop + first_corner[i];

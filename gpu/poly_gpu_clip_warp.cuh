@@ -150,13 +150,23 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
   for (int first = 0; first < num_pairs; first += 32) {
     const int q = first + lane, i = q / b.num_pieces, j = q - i * b.num_pieces;
     int faces_b = 0, faces_a = 0;
-    if (q < num_pairs &&
-        !((m.piece_ahead_b[j] & poly_clip_mask_of(a.piece_front + i)) |
-          (m.piece_behind_b[j] & poly_clip_mask_of(a.piece_back + i)) |
-          (m.piece_ahead_a[i] & poly_clip_mask_of(b.piece_front + j)) |
-          (m.piece_behind_a[i] & poly_clip_mask_of(b.piece_back + j)))) {
+    const bool meet = q < num_pairs &&
+                      !((m.piece_ahead_b[j] & poly_clip_mask_of(a.piece_front + i)) |
+                        (m.piece_behind_b[j] & poly_clip_mask_of(a.piece_back + i)) |
+                        (m.piece_ahead_a[i] & poly_clip_mask_of(b.piece_front + j)) |
+                        (m.piece_behind_a[i] & poly_clip_mask_of(b.piece_back + j)));
+    // A face whose plane has the other piece wholly on one side cannot meet it (the host's test).
+    const poly_clip_mask aside_of_b = meet ? m.piece_ahead_a[i] | m.piece_behind_a[i] : 0,
+                         aside_of_a = meet ? m.piece_ahead_b[j] | m.piece_behind_b[j] : 0;
+    if (meet) {
       faces_b = b.piece_face_start[j + 1] - b.piece_face_start[j];
       faces_a = a.piece_face_start[i + 1] - a.piece_face_start[i];
+      if (b.face_plane)
+        for (int f = b.piece_face_start[j]; f < b.piece_face_start[j + 1]; f++)
+          faces_b -= (aside_of_b >> b.face_plane[b.piece_faces[f]]) & 1;
+      if (a.face_plane)
+        for (int f = a.piece_face_start[i]; f < a.piece_face_start[i + 1]; f++)
+          faces_a -= (aside_of_a >> a.face_plane[a.piece_faces[f]]) & 1;
     }
     int before = faces_b + faces_a;
     for (int offset = 1; offset < 32; offset <<= 1) {
@@ -167,8 +177,19 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
     before -= faces_b + faces_a;
     if (num_items + total > POLY_CLIP_WARP_ITEMS) return 1;
     int *slot = m.items + num_items + before;
-    for (int t = 0; t < faces_b; t++) slot[t] = clip_item(b.piece_faces[b.piece_face_start[j] + t], 0, i);
-    for (int t = 0; t < faces_a; t++) slot[faces_b + t] = clip_item(a.piece_faces[a.piece_face_start[i] + t], 1, j);
+    if (meet && !b.face_plane) {
+      for (int t = 0; t < faces_b; t++) slot[t] = clip_item(b.piece_faces[b.piece_face_start[j] + t], 0, i);
+      slot += faces_b;
+    } else if (meet) {
+      for (int f = b.piece_face_start[j]; f < b.piece_face_start[j + 1]; f++)
+        if (!((aside_of_b >> b.face_plane[b.piece_faces[f]]) & 1)) *slot++ = clip_item(b.piece_faces[f], 0, i);
+    }
+    if (meet && !a.face_plane) {
+      for (int t = 0; t < faces_a; t++) slot[t] = clip_item(a.piece_faces[a.piece_face_start[i] + t], 1, j);
+    } else if (meet) {
+      for (int f = a.piece_face_start[i]; f < a.piece_face_start[i + 1]; f++)
+        if (!((aside_of_a >> a.face_plane[a.piece_faces[f]]) & 1)) *slot++ = clip_item(a.piece_faces[f], 1, j);
+    }
     num_items += total;
   }
   __syncwarp();

@@ -81,6 +81,7 @@ typedef struct poly_clip_faces {
    * mask of the planes that have one: a body wholly in front of such a plane is apart (pieces only). */
   const int *plane_support;
   poly_clip_words support_planes;
+  const int *face_plane;  /* per face the index of its plane among `planes` (pieces only; NULL: not known) */
 } poly_clip_faces;
 
 /* What the clipping gives, in A's body frame (the caller turns it to world). */
@@ -381,11 +382,13 @@ POLY_INLINE int poly_clip_face_by_piece(const poly_clip_faces *body, int face, c
  * path). */
 POLY_INLINE int poly_clip_faces_by_piece(const poly_clip_faces *body, const int *faces, int num_faces,
                                           const double *x, const poly_clip_mask *ahead, const poly_clip_mask *behind,
-                                          const double *planes, poly_clip_mask front, poly_clip_mask back, int on_a,
-                                          poly_clip_accumulator *acc)
+                                          const double *planes, poly_clip_mask front, poly_clip_mask back,
+                                          poly_clip_mask piece_aside, int on_a, poly_clip_accumulator *acc)
 {
   double work[2][3 * POLY_CLIP_MAX_POLYGON], *polygon = 0;
   for (int i = 0; i < num_faces; i++) {
+    /* The other piece wholly on one side of the face's plane: the face, on that plane, cannot meet it. */
+    if (body->face_plane && ((piece_aside >> body->face_plane[faces[i]]) & 1)) continue;
     int n = poly_clip_face_by_piece(body, faces[i], x, ahead, behind, planes, front, back, work[0], work[1],
                                     POLY_CLIP_MAX_POLYGON, &polygon);
     if (n < 0) return 0;
@@ -457,10 +460,11 @@ POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_cl
           continue;  /* a plane of one piece has the other wholly outside */
         if (!poly_clip_faces_by_piece(b, b->piece_faces + b->piece_face_start[j],
                                       b->piece_face_start[j + 1] - b->piece_face_start[j], xb, ahead_b, behind_b,
-                                      a->planes, front_a, back_a, 0, acc) ||
+                                      a->planes, front_a, back_a, piece_ahead_a[i] | piece_behind_a[i], 0, acc) ||
             !poly_clip_faces_by_piece(a, a->piece_faces + a->piece_face_start[i],
                                       a->piece_face_start[i + 1] - a->piece_face_start[i], a->vertices, ahead_a,
-                                      behind_a, planes_b, front_b, back_b, 1, acc))
+                                      behind_a, planes_b, front_b, back_b, piece_ahead_b[j] | piece_behind_b[j], 1,
+                                      acc))
           return 0;
       }
     }

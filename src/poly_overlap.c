@@ -29,6 +29,7 @@ static poly_clip_faces clip_faces_of(const poly_shape *shape)
   clip.piece_faces = shape->clip_piece_faces;
   clip.plane_support = shape->clip_plane_support;
   clip.support_planes = shape->clip_support_planes;
+  clip.face_plane = shape->clip_face_plane;
   return clip;
 }
 

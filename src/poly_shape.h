@@ -111,6 +111,7 @@ typedef struct poly_shape {
    * that have one. */
   int *clip_plane_support;
   poly_clip_words clip_support_planes;
+  int *clip_face_plane;  /* per clip face the index of its plane among clip_planes (pieces only) */
 } poly_shape;
 
 /* Reads a mesh; the format is chosen by extension (.stl, .obj, .off, any case).
