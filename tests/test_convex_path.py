@@ -22,6 +22,7 @@ and most contacts not.
 Run with Debian's python3:  /usr/bin/python3 -m pytest tests/test_convex_path.py -q
 """
 import os
+import random
 import shutil
 import subprocess
 
@@ -203,3 +204,40 @@ def test_partition_takes_shapes_not_star_shaped(driver, tmp_path):  # noqa: F811
     assert values["smoothed"] <= values["fallbacks"] <= 0.2 * values["poses"], log
     values, _ = run(driver, "schoenhardt.stl", 10, "double", capacity="clip")
     assert values["clip_pieces"] >= 2 and values["clip_planes"] == 8
+
+
+def dented_cube_obj(seed):
+    """A unit cube with one or two corners pulled toward its centre (a dent: not convex; the other faces' two
+    triangles stay coplanar), each face split along a random diagonal."""
+    rng = random.Random(100 + seed)
+    corners = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    index = {c: i for i, c in enumerate(corners)}
+    quads = [((0, 0, 0), (0, 1, 0), (1, 1, 0), (1, 0, 0)), ((0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)),
+             ((0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)), ((0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)),
+             ((0, 0, 0), (0, 0, 1), (0, 1, 1), (0, 1, 0)), ((1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1))]
+    points = [list(c) for c in corners]
+    for corner in rng.sample(range(8), 1 + seed % 2):
+        pull = rng.uniform(0.3, 0.7)
+        points[corner] = [0.5 + (c - 0.5) * pull for c in points[corner]]
+    triangles = []
+    for quad in quads:
+        a, b, c, d = (index[q] for q in quad)
+        triangles += [(a, b, c), (a, c, d)] if rng.random() < 0.5 else [(a, b, d), (b, c, d)]
+    return ("".join("v %r %r %r\n" % tuple(p) for p in points) +
+            "".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in triangles))
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_partition_of_dented_cubes(driver, tmp_path, seed):  # noqa: F811
+    """Cubes with one or two corners dented in: the partition splits each into 2-4 pieces on its own face planes
+    (some with new corners where a cut crosses a triangle), and they give the general path's overlaps on 1000
+    poses within the same tolerances as above (measured <= 3.7e-15); every separating code given parts its pose."""
+    path = tmp_path / ("dented_cube_%d.obj" % seed)
+    path.write_text(dented_cube_obj(seed))
+    values, log = run(driver, str(path), 1000, "double", capacity="clip")
+    assert 2 <= values["clip_pieces"] <= 8 and values["clip_planes"] <= 12 and values["overlapping"] >= 300, log
+    for quantity, limit in CLIP_TOLERANCE.items():
+        assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
+    assert values["flag_differences"] == 0 and values["wrongly_filtered"] == 0, log
+    assert values["smoothed"] <= values["fallbacks"] <= 0.1 * values["poses"], log
+    assert values["codes_given"] >= 10 and values["codes_holding"] == values["codes_given"], log
