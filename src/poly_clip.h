@@ -63,19 +63,20 @@ POLY_INLINE poly_clip_mask poly_clip_mask_of(const poly_clip_words *words)
 /* A shape's faces and convex pieces, body frame. */
 typedef struct poly_clip_faces {
   int num_faces, num_vertices;
-  const double *vertices;  /* 3 per vertex */
+  const double *vertices;  /* 3 per vertex (for pieces that cut the triangles, their new corners after them) */
   const double *planes;    /* 4 per plane: unit outward normal n and offset d, n.x = d on it (see below) */
   const int *loop_start;   /* num_faces + 1 offsets into loop */
   const int *loop;         /* corners of each face in order, counter-clockwise seen from outside */
   const int *triangle;     /* per face its lowest triangle (for the separation hint's code) */
   /* Convex pieces whose union is the body, interiors apart: one for a convex shape (its faces' planes); for
-   * one that is not, cones from the centre of mass over patches of its surface (poly_shape_find_faces). Each
+   * one that is not, the cells of a partition of space by its face planes inside it, or cones from the centre of
+   * mass over patches of its surface (poly_shape_find_faces, poly_convex_partition_impl.h). Each
    * piece is the intersection of half-spaces of the shape's planes: `planes` holds num_planes of them (the
    * faces' planes first for a convex shape), a piece lies behind the planes of its piece_front mask and in
    * front of those of its piece_back mask. */
   int num_planes, num_pieces;
   const poly_clip_words *piece_front, *piece_back;
-  const int *piece_point_start, *piece_points;  /* per piece its corners; index num_vertices is the origin */
+  const int *piece_point_start, *piece_points;  /* per piece its corners; index num_vertices is the origin (cones) */
   const int *piece_face_start, *piece_faces;    /* per piece the faces on its surface */
   /* Per plane the index in the shape's supporting triangles (poly_shape's support) of one on it, or -1, and the
    * mask of the planes that have one: a body wholly in front of such a plane is apart (pieces only). */
