@@ -21,6 +21,7 @@
 #define PARTITION_MAX_CELL_PLANES 64  /* facets of one cell */
 #define PARTITION_MAX_CELL_VERTICES 96
 #define PARTITION_MAX_POINTS POLY_CLIP_MAX_VERTICES /* clip vertices: the shape's and the new corners */
+#define PARTITION_MAX_CELLS 2048      /* cells visited, inside and outside: a bound on the time a shape takes */
 
 typedef struct partition_cell {
   int count;
@@ -37,7 +38,7 @@ typedef struct partition {
   /* what the pieces make */
   double *points;
   int num_points;
-  int num_pieces, failed;
+  int num_pieces, num_cells, failed;
   int piece_planes[POLY_CLIP_MAX_PIECES][POLY_CLIP_MAX_PIECE_PLANES];
   int piece_behind[POLY_CLIP_MAX_PIECES][POLY_CLIP_MAX_PIECE_PLANES];
   int piece_num_planes[POLY_CLIP_MAX_PIECES];
@@ -290,6 +291,10 @@ static int partition_choose(const partition *p, const partition_cell *cell, cons
 static void partition_split(partition *p, const partition_cell *cell, const int *candidates, int num_candidates)
 {
   if (p->failed) return;
+  if (++p->num_cells > PARTITION_MAX_CELLS) {
+    p->failed = 1;
+    return;
+  }
   double vertices[3 * PARTITION_MAX_CELL_VERTICES];
   int count = partition_cell_vertices(p, cell, vertices);
   if (count < 0) p->failed = 1;
