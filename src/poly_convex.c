@@ -262,13 +262,14 @@ static poly_status find_plane_support(poly_shape *shape, int face_planes)
  * behind it by a millionth of the size, the cones from it over the triangles tile the shape; neighbouring
  * cones are merged, greedily, while their union stays convex with at most POLY_CLIP_MAX_PLANES planes. The
  * shape's faces for the clipping path are then its triangles. Leaves the shape without pieces (not an error)
- * when neither gives pieces the path takes. POLY_PIECES_BY_CONES set in the environment skips the partition (a
+ * when neither gives pieces the path takes. POLY_PIECES_BY_CONES=1 in the environment skips the partition (a
  * benchmark's before and after in one build, doc/benchmarks.md). */
 static poly_status find_pieces(poly_shape *shape)
 {
   const int nt = shape->num_triangles, nv = shape->num_vertices, ne = shape->num_edges;
   const double radius = shape->bounding_radius, tolerance = 1e-12 * radius;
-  if (!getenv("POLY_PIECES_BY_CONES") && partition_pieces(shape)) return find_plane_support(shape, 1);
+  const char *by_cones = getenv("POLY_PIECES_BY_CONES");  /* 0 or 1 (poly_shape_build checks it) */
+  if (!(by_cones && strcmp(by_cones, "1") == 0) && partition_pieces(shape)) return find_plane_support(shape, 1);
   if (nt > POLY_CLIP_MAX_FACES || nv >= POLY_CLIP_MAX_VERTICES) return POLY_OK;
   for (int t = 0; t < nt; t++) {
     const double *n = shape->face_normals + 3 * t, *corner = shape->vertices + 3 * shape->triangles[3 * t];

@@ -885,6 +885,9 @@ poly_status poly_shape_build(const poly_mesh *mesh, double scale, const char *na
   if (message && message_size > 0) message[0] = '\0';
   if (!shape) return poly_fail(message, message_size, POLY_ERROR_EMPTY, "no shape to build into");
   memset(shape, 0, sizeof *shape);
+  const char *by_cones = getenv("POLY_PIECES_BY_CONES");  /* read by poly_shape_find_faces */
+  if (by_cones && strcmp(by_cones, "0") != 0 && strcmp(by_cones, "1") != 0)
+    return poly_fail(message, message_size, POLY_ERROR_PARSE, "POLY_PIECES_BY_CONES=%s: expected 0 or 1", by_cones);
   poly_build b;
   memset(&b, 0, sizeof b);
   b.name = name ? name : "(unnamed)";

@@ -12,6 +12,17 @@ def template_line(path, extra=""):
     return f"fix t all particletemplate/polyhedron 15485863 atom_type 1 density constant 1000 file {path}{extra}\n"
 
 
+def test_bad_pieces_choice_is_an_error(run_deck, monkeypatch):
+    """POLY_PIECES_BY_CONES (the convex pieces by cones instead of the partition, for comparisons) takes 0 or 1;
+    anything else stops the shape's loading with an ERROR naming it, not a silent choice."""
+    monkeypatch.setenv("POLY_PIECES_BY_CONES", "yes")
+    result = run_deck(BOX + template_line("${SHAPES}/schoenhardt.stl", " scale 0.01"))
+    assert result.returncode != 0
+    assert any("POLY_PIECES_BY_CONES=yes: expected 0 or 1" in line for line in result.error_lines()), result.output
+    monkeypatch.setenv("POLY_PIECES_BY_CONES", "0")
+    assert run_deck(BOX + template_line("${SHAPES}/schoenhardt.stl", " scale 0.01")).returncode == 0
+
+
 @pytest.mark.parametrize("mesh, expected", [
     ("open.stl", ["open.stl", "is open", "belongs to only one triangle"]),
     ("inconsistent.off", ["inconsistent.off", "inconsistent orientation"]),

@@ -201,7 +201,7 @@ def test_partition_takes_shapes_not_star_shaped(driver, tmp_path):  # noqa: F811
     for quantity, limit in CLIP_TOLERANCE.items():
         assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{log}"
     assert values["flag_differences"] == 0 and values["wrongly_filtered"] == 0, log
-    assert values["smoothed"] <= values["fallbacks"] <= 0.2 * values["poses"], log
+    assert values["smoothed"] <= values["fallbacks"] <= 0.1 * values["poses"], log
     values, _ = run(driver, "schoenhardt.stl", 10, "double", capacity="clip")
     assert values["clip_pieces"] >= 2 and values["clip_planes"] == 8
 
