@@ -620,8 +620,7 @@ extern "C" int poly_gpu_environment(poly_gpu_options *options, char *message, si
 
 // The shapes' faces and convex pieces for the clipping path (poly_clip.h), and per shape a poly_clip_faces of
 // device pointers into them and into the uploaded vertices; shapes without clip faces get num_faces 0.
-static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, const std::vector<int> &offsets,
-                       char *message, size_t message_size)
+static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, char *message, size_t message_size)
 {
   DeviceShapes &s = state.shapes;
   std::vector<double> planes, clip_vertices;
@@ -651,8 +650,8 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
     state.any_clip = true;
     const int np = shape->num_clip_pieces;
     if (np > 1) state.any_pieces = true;
-    const int nv = shape->clip_vertices ? shape->num_clip_vertices : shape->num_vertices;
-    const double *x = shape->clip_vertices ? shape->clip_vertices : shape->vertices;
+    const int nv = poly_shape_num_clip_points(shape);
+    const double *x = poly_shape_clip_points(shape);
     clip_vertices.insert(clip_vertices.end(), x, x + 3 * nv);
     limits.vertices = std::max(limits.vertices, nv);
     limits.planes = std::max(limits.planes, shape->num_clip_planes);
@@ -693,7 +692,7 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
     poly_clip_faces &f = clip[i];
     memset(&f, 0, sizeof f);
     f.num_faces = shapes[i]->num_clip_faces;
-    f.num_vertices = shapes[i]->clip_vertices ? shapes[i]->num_clip_vertices : shapes[i]->num_vertices;
+    f.num_vertices = poly_shape_num_clip_points(shapes[i]);
     f.num_planes = shapes[i]->num_clip_planes;
     f.num_pieces = shapes[i]->num_clip_pieces;
     f.vertices = s.clip_vertices + 3 * first_vertex[i];
@@ -769,7 +768,7 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
             upload_raw(&s.edges, edges, message, message_size) &&
             upload_raw(&s.edge_triangles, edge_triangles, message, message_size) &&
             ensure(state.counters, 5, message, message_size) &&
-            upload_clip_faces(num_shapes, shapes, offsets, message, message_size);
+            upload_clip_faces(num_shapes, shapes, message, message_size);
   if (!ok) return -1;
   state.ready = true;
   return 0;

@@ -183,64 +183,54 @@ static int partition_point(partition *p, const double *x)
   return p->num_points++;
 }
 
-/* A cell inside the shape becomes a piece: its facets' planes, its corners, and the parts of the triangles on
- * its facets (the sub-faces) with their area and the volume they enclose. */
-static void partition_add_piece(partition *p, const partition_cell *cell, const double *vertices, int count)
+/* Points `x` (`count`, 3 each) as clip points into `index`; 0 (and the partition failed) when they are full. */
+static int partition_points(partition *p, const double *x, int count, int *index)
 {
-  if (p->num_pieces == POLY_CLIP_MAX_PIECES) {
+  for (int v = 0; v < count; v++)
+    if ((index[v] = partition_point(p, x + 3 * v)) < 0) {
+      p->failed = 1;
+      return 0;
+    }
+  return 1;
+}
+
+/* A cell inside the shape (its planes its facets only, as partition_split leaves them) becomes a piece: its
+ * planes, its corners, and the parts of the triangles on its facets (the sub-faces) with their area and the
+ * volume they enclose. */
+static void partition_add_piece(partition *p, const partition_cell *facets, const double *vertices, int count)
+{
+  if (p->num_pieces == POLY_CLIP_MAX_PIECES || facets->count > POLY_CLIP_MAX_PIECE_PLANES) {
     p->failed = 1;
     return;
   }
-  const int piece = p->num_pieces;
-  int num_planes = 0;
-  for (int k = 0; k < cell->count; k++) {
-    int on = 0;
-    for (int v = 0; v < count; v++) on += fabs(partition_side(p, cell->plane[k], vertices + 3 * v)) <= p->tolerance;
-    if (on < 3) continue;  /* not a facet */
-    if (cell->plane[k] >= p->num_face_planes || num_planes == POLY_CLIP_MAX_PIECE_PLANES) {
+  const int piece = p->num_pieces, num_planes = facets->count;
+  for (int k = 0; k < num_planes; k++) {
+    if (facets->plane[k] >= p->num_face_planes) {
       p->failed = 1;  /* a box plane bounds a piece: the box did not hold the shape */
       return;
     }
-    p->piece_planes[piece][num_planes] = cell->plane[k];
-    p->piece_behind[piece][num_planes++] = cell->behind[k];
+    p->piece_planes[piece][k] = facets->plane[k];
+    p->piece_behind[piece][k] = facets->behind[k];
   }
   p->piece_num_planes[piece] = num_planes;
-  for (int v = 0; v < count; v++) {
-    int index = partition_point(p, vertices + 3 * v);
-    if (index < 0) {
-      p->failed = 1;
-      return;
-    }
-    p->piece_points[p->num_piece_points++] = index;
-  }
+  if (!partition_points(p, vertices, count, p->piece_points + p->num_piece_points)) return;
+  p->num_piece_points += count;
   p->piece_point_start[piece + 1] = p->num_piece_points;
-  partition_cell facets;
-  facets.count = num_planes;
-  for (int k = 0; k < num_planes; k++) {
-    facets.plane[k] = p->piece_planes[piece][k];
-    facets.behind[k] = p->piece_behind[piece][k];
-  }
   const poly_shape *shape = p->shape;
   for (int t = 0; t < shape->num_triangles; t++) {
     int on_facet = 0;
-    for (int k = 0; k < num_planes; k++) on_facet |= facets.plane[k] == p->triangle_plane[t] && facets.behind[k];
+    for (int k = 0; k < num_planes; k++) on_facet |= facets->plane[k] == p->triangle_plane[t] && facets->behind[k];
     if (!on_facet) continue;
     double polygon[3 * POLY_CLIP_MAX_POLYGON * 2];
-    int n = partition_clip_triangle(p, &facets, t, 0.0, p->triangle_plane[t], polygon);
+    int n = partition_clip_triangle(p, facets, t, 0.0, p->triangle_plane[t], polygon);
     if (n < 3 || !(partition_polygon_area(polygon, n) > p->tolerance * p->tolerance)) continue;
     if (p->num_faces == POLY_CLIP_MAX_FACES || n > POLY_CLIP_MAX_LOOP) {
       p->failed = 1;
       return;
     }
     p->face_loop_start[p->num_faces] = p->faces_loop_used;
-    for (int c = 0; c < n; c++) {
-      int index = partition_point(p, polygon + 3 * c);
-      if (index < 0) {
-        p->failed = 1;
-        return;
-      }
-      p->faces_loop[p->faces_loop_used++] = index;
-    }
+    if (!partition_points(p, polygon, n, p->faces_loop + p->faces_loop_used)) return;
+    p->faces_loop_used += n;
     p->face_triangle[p->num_faces++] = t;
     p->area += partition_polygon_area(polygon, n);
     for (int i = 1; i + 1 < n; i++) {
@@ -299,17 +289,14 @@ static void partition_split(partition *p, const partition_cell *cell, const int 
   int count = partition_cell_vertices(p, cell, vertices);
   if (count < 0) p->failed = 1;
   if (count < 4) return;  /* empty */
-  for (int k = 0; k < cell->count; k++) {
-    int off = 0;
-    for (int v = 0; v < count && !off; v++) off = fabs(partition_side(p, cell->plane[k], vertices + 3 * v)) > p->tolerance;
-    if (!off) return;  /* flat: every corner on one of its planes */
-  }
-  /* Only the facets' planes go on (the others hold no corner), so that cells deep in the partition stay small. */
+  /* Only the facets' planes go on (the others hold fewer than 3 corners), so that cells deep in the partition stay
+   * small; a plane with every corner on it is a flat cell, which is dropped. */
   partition_cell facets;
   facets.count = 0;
   for (int k = 0; k < cell->count; k++) {
     int on = 0;
     for (int v = 0; v < count; v++) on += fabs(partition_side(p, cell->plane[k], vertices + 3 * v)) <= p->tolerance;
+    if (on == count) return;
     if (on < 3) continue;
     facets.plane[facets.count] = cell->plane[k];
     facets.behind[facets.count++] = cell->behind[k];

@@ -13,8 +13,8 @@ static poly_clip_faces clip_faces_of(const poly_shape *shape)
 {
   poly_clip_faces clip;
   clip.num_faces = shape->num_clip_faces;
-  clip.num_vertices = shape->clip_vertices ? shape->num_clip_vertices : shape->num_vertices;
-  clip.vertices = shape->clip_vertices ? shape->clip_vertices : shape->vertices;
+  clip.num_vertices = poly_shape_num_clip_points(shape);
+  clip.vertices = poly_shape_clip_points(shape);
   clip.planes = shape->clip_planes;
   clip.loop_start = shape->clip_loop_start;
   clip.loop = shape->clip_loop;

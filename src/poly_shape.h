@@ -114,6 +114,17 @@ typedef struct poly_shape {
   int *clip_face_plane;  /* per clip face the index of its plane among clip_planes (pieces only) */
 } poly_shape;
 
+/* The clipping path's points: the clip vertices where the pieces cut the triangles, else the vertices. */
+static inline const double *poly_shape_clip_points(const poly_shape *shape)
+{
+  return shape->clip_vertices ? shape->clip_vertices : shape->vertices;
+}
+
+static inline int poly_shape_num_clip_points(const poly_shape *shape)
+{
+  return shape->clip_vertices ? shape->num_clip_vertices : shape->num_vertices;
+}
+
 /* Reads a mesh; the format is chosen by extension (.stl, .obj, .off, any case).
  * STL: ascii or binary (detected from content, not from the "solid" keyword alone). */
 poly_status poly_mesh_read(const char *path, poly_mesh *mesh, char *message, size_t message_size);
