@@ -495,7 +495,8 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
               state.history.data, state.slot.data, state.pair_force.data, device_results, state.counters.data,
               state.handed_back.data);
     else
-      clip_warp_kernel<<<(num_touching + POLY_CLIP_WARPS - 1) / POLY_CLIP_WARPS, 32 * POLY_CLIP_WARPS,
+      clip_warp_kernel<<<(num_touching + POLY_CLIP_WARPS * state.clip_limits.pairs - 1) /
+                             (POLY_CLIP_WARPS * state.clip_limits.pairs), 32 * POLY_CLIP_WARPS,
                          POLY_CLIP_WARPS * state.clip_limits.bytes>>>(
           s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
           state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
@@ -630,7 +631,7 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
       first_point, first_piece_face;
   state.any_clip = state.any_pieces = false;
   state.all_clip = num_shapes > 0;
-  ClipWarpLimits limits = {0, 0, 0, 0};
+  ClipWarpLimits limits = {0, 0, 0, 1, 0};
   for (int i = 0; i < num_shapes; i++) {
     const poly_shape *shape = shapes[i];
     first_plane.push_back((int)planes.size() / 4);
@@ -681,7 +682,14 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
       !upload_raw(&s.clip_vertices, clip_vertices, message, message_size) ||
       !upload_raw(&s.clip_face_plane, face_plane, message, message_size))
     return false;
-  limits.bytes = clip_warp_layout(NULL, NULL, limits);
+  int device = 0, shared_per_sm = 0, reserved_per_block = 0;
+  if (!check(cudaGetDevice(&device), "cudaGetDevice", message, message_size) ||
+      !check(cudaDeviceGetAttribute(&shared_per_sm, cudaDevAttrMaxSharedMemoryPerMultiprocessor, device),
+             "cudaDeviceGetAttribute", message, message_size) ||
+      !check(cudaDeviceGetAttribute(&reserved_per_block, cudaDevAttrReservedSharedMemoryPerBlock, device),
+             "cudaDeviceGetAttribute", message, message_size))
+    return false;
+  clip_warp_pairs(&limits, (size_t)shared_per_sm, (size_t)reserved_per_block);
   state.clip_limits = limits;
   if (state.any_pieces &&
       !check(cudaFuncSetAttribute(clip_warp_kernel, cudaFuncAttributeMaxDynamicSharedMemorySize,
@@ -936,6 +944,8 @@ extern "C" poly_gpu_timing poly_gpu_timings(void)
 {
   poly_gpu_timing timing = state.timing;
   wall_timing(&timing);
+  timing.clip_warp_pairs = state.clip_limits.pairs;
+  timing.clip_warp_bytes = (long)state.clip_limits.bytes;
   return timing;
 }
 

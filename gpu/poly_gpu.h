@@ -125,6 +125,8 @@ typedef struct poly_gpu_timing {
   double wall_seconds;           /* poly_gpu_wall_overlaps: pieces up, overlaps and nodes down */
   long wall_calls, wall_pieces;  /* its calls, and their pieces summed */
   long wall_handed_back;         /* pieces its lanes left to the one-thread kernel */
+  int clip_warp_pairs;           /* pairs a warp of the clipping warp kernel takes, for the uploaded shapes */
+  long clip_warp_bytes;          /* and that warp's block of shared memory (doc/gpu.md) */
 } poly_gpu_timing;
 
 /* Number of CUDA devices usable by this process (0 without a driver or GPU). */

@@ -54,8 +54,10 @@ __global__ void __launch_bounds__(kThreads)
                    counters);
 }
 
-// One warp per pair of `list` whose shapes both have clip faces, in double: the clipping path spread over the
-// warp's lanes (poly_gpu_clip_warp.cuh); what it does not take goes to `handed_back`, as from
+// A warp per limits.pairs pairs of `list` whose shapes both have clip faces, in double: each pair's overlap
+// by the clipping path spread over the warp's lanes (poly_gpu_clip_warp.cuh), one pair after the other, then the
+// contact law of each on a lane of its own (on one lane per pair it held 8 % of the kernel's stall samples, the
+// other lanes idle: doc/benchmarks.md); what the warp does not take goes to `handed_back`, as from
 // clip_contact_kernel.
 __global__ void __launch_bounds__(32 * POLY_CLIP_WARPS, POLY_CLIP_WARP_MIN_BLOCKS)
     clip_warp_kernel(DeviceShapes shapes, const int *__restrict__ list, int count, const int *__restrict__ pair_i,
@@ -67,24 +69,36 @@ __global__ void __launch_bounds__(32 * POLY_CLIP_WARPS, POLY_CLIP_WARP_MIN_BLOCK
                      int *__restrict__ counters, int *__restrict__ handed_back, ClipWarpLimits limits)
 {
   extern __shared__ __align__(16) double clip_blocks[];
-  const int warp = threadIdx.x >> 5, local = blockIdx.x * POLY_CLIP_WARPS + warp;
-  if (local >= count) return;  // the whole warp
+  const int warp = threadIdx.x >> 5, lane = threadIdx.x & 31;
+  const int first = (blockIdx.x * POLY_CLIP_WARPS + warp) * limits.pairs;
+  if (first >= count) return;  // the whole warp
+  const int pairs = count - first < limits.pairs ? count - first : limits.pairs;
   ClipWarpMemory memory;
   clip_warp_layout(&memory, (char *)clip_blocks + (size_t)warp * limits.bytes, limits);
-  int p = list[local];
   PairBodies pair;
-  pair_bodies(p, pair_i, pair_j, particles, motion, pair);
-  const poly_clip_faces faces_i = shapes.clip[pair.body_i->shape], faces_j = shapes.clip[pair.body_j->shape];
-  poly_clip_result clip;
-  const int handed = faces_i.num_faces == 0 || faces_j.num_faces == 0 ||
-                     clip_warp_overlap(faces_i, faces_j, pair.rotation, pair.translation,
-                                       shapes.radius[pair.body_i->shape] + shapes.radius[pair.body_j->shape],
-                                       settings.rocking, memory, &clip);
-  if ((threadIdx.x & 31) != 0) return;
-  if (handed) {
+  for (int k = 0; k < pairs; k++) {
+    pair_bodies(list[first + k], pair_i, pair_j, particles, motion, pair);
+    const poly_clip_faces faces_i = shapes.clip[pair.body_i->shape], faces_j = shapes.clip[pair.body_j->shape];
+    poly_clip_result clip;
+    const int handed = faces_i.num_faces == 0 || faces_j.num_faces == 0 ||
+                       clip_warp_overlap(faces_i, faces_j, pair.rotation, pair.translation,
+                                         shapes.radius[pair.body_i->shape] + shapes.radius[pair.body_j->shape],
+                                         settings.rocking, memory, &clip);
+    __syncwarp();  // the next pair rewrites the warp's block
+    if (lane == 0) {
+      if (handed) clip.num_nodes = -1;
+      memory.results[k] = clip;
+    }
+  }
+  __syncwarp();
+  if (lane >= pairs) return;
+  const int p = list[first + lane];
+  const poly_clip_result &clip = memory.results[lane];
+  if (clip.num_nodes < 0) {
     handed_back[atomicAdd(counters + 2, 1)] = p;
     return;
   }
+  pair_bodies(p, pair_i, pair_j, particles, motion, pair);
   finish_clip_pair(p, pair, clip, materials, num_types, settings, contact, history, slot, pair_force, results,
                    counters);
 }

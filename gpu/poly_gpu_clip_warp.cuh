@@ -7,7 +7,8 @@
  * 1. B's points and planes into A's frame, and every point's sides of the
  *    other body's planes, a point per lane;
  * 2. the pairs of pieces that no plane of either parts, a pair per lane, and
- *    their faces to clip as one list of items (face, side, other piece);
+ *    their faces to clip as one list of items (face, side, other piece),
+ *    less those a plane of the piece leaves wholly outside;
  * 3. an item per lane: the face clipped by the other body's piece, its
  *    polygon summed from a common corner (the first item's polygon's first
  *    corner, as on the host) and its corners kept in the warp's block;
@@ -26,13 +27,19 @@
 #ifndef POLY_CLIP_WARP_MIN_BLOCKS
 #define POLY_CLIP_WARP_MIN_BLOCKS 4 /* blocks per SM the registers are sized for (doc/benchmarks.md) */
 #endif
+#ifndef POLY_CLIP_WARP_PAIRS
+#define POLY_CLIP_WARP_PAIRS 16    /* at most this many pairs a warp clips one after the other (ClipWarpLimits) */
+#endif
 #define POLY_CLIP_WARP_ITEMS 256   /* faces to clip per pair */
 #define POLY_CLIP_WARP_NODES 64    /* corners kept for the depth per pair */
+#ifndef POLY_CLIP_WARP_POLYGON
 #define POLY_CLIP_WARP_POLYGON 12  /* corners of a clipped face (a lane's work buffers are in local memory) */
+#endif
 
 /* What one warp's block of shared memory holds, sized for the uploaded shapes. */
 struct ClipWarpLimits {
   int vertices, planes, pieces;
+  int pairs;  /* pairs a warp clips one after the other, then finishes on as many lanes (clip_warp_pairs) */
   size_t bytes;
 };
 
@@ -41,6 +48,7 @@ struct ClipWarpMemory {
   poly_clip_mask *ahead_a, *behind_a, *ahead_b, *behind_b;
   poly_clip_mask *piece_ahead_a, *piece_behind_a, *piece_ahead_b, *piece_behind_b;
   int *items;
+  poly_clip_result *results;  /* the warp's pairs' overlaps, for the contact law on a lane each */
 };
 
 /* Bytes of one warp's block for `limits`; with `m` and `memory`, points m's arrays into the block. */
@@ -50,6 +58,9 @@ static __host__ __device__ inline size_t clip_warp_layout(ClipWarpMemory *m, cha
   size_t doubles = 3 * points + 4 * (size_t)limits.planes + 3 * POLY_CLIP_WARP_NODES;
   size_t masks = 4 * points + 4 * (size_t)limits.pieces;
   size_t bytes = sizeof(double) * doubles + sizeof(poly_clip_mask) * masks + sizeof(int) * POLY_CLIP_WARP_ITEMS;
+  bytes = (bytes + 15) / 16 * 16;
+  const size_t results_at = bytes;
+  bytes += sizeof(poly_clip_result) * limits.pairs;
   bytes = (bytes + 15) / 16 * 16;
   if (!m || !memory) return bytes;
   poly_clip_mask *k = (poly_clip_mask *)memory;  /* first: the masks want 16-byte alignment */
@@ -66,7 +77,23 @@ static __host__ __device__ inline size_t clip_warp_layout(ClipWarpMemory *m, cha
   m->planes_b = d; d += 4 * limits.planes;
   m->nodes = d; d += 3 * POLY_CLIP_WARP_NODES;
   m->items = (int *)d;
+  m->results = (poly_clip_result *)(memory + results_at);
   return bytes;
+}
+
+/* Pairs per warp: the most, up to POLY_CLIP_WARP_PAIRS, whose blocks, POLY_CLIP_WARP_MIN_BLOCKS of them (what the
+ * registers are sized for), take at most half of the SM's shared memory (`shared_per_sm` and `reserved_per_block`
+ * bytes, the device's), the rest staying L1 cache for the lanes' local memory, which the kernel waits on: more
+ * pairs a warp run more contact laws at once (Schoenhardt polyhedra 16 pairs 4 % faster than 8, 6 % than 1), but
+ * rock_40's larger blocks lose by them (1 pair 2 % faster than 8, 14 % than 16; doc/benchmarks.md). Sets
+ * limits->pairs and limits->bytes. */
+static inline void clip_warp_pairs(ClipWarpLimits *limits, size_t shared_per_sm, size_t reserved_per_block)
+{
+  for (limits->pairs = POLY_CLIP_WARP_PAIRS;; limits->pairs /= 2) {
+    limits->bytes = clip_warp_layout(NULL, NULL, *limits);
+    const size_t block = POLY_CLIP_WARPS * limits->bytes + reserved_per_block;
+    if (limits->pairs == 1 || POLY_CLIP_WARP_MIN_BLOCKS * block <= shared_per_sm / 2) return;
+  }
 }
 
 /* Item: a face of one body, which body (of_a), and the other body's piece that clips it. */
@@ -75,8 +102,8 @@ static __device__ __forceinline__ int clip_item(int face, int of_a, int piece)
   return (piece << 8) | (of_a << 7) | face;
 }
 
-/* Item `item`'s face clipped by its piece (poly_clip_face_by_piece): the corner count, -1 when the polygon could
- * outgrow the lane's work buffers, and in *result the buffer holding the corners. */
+/* Item `item`'s face clipped by its piece (poly_clip_face_by_piece): the corner count, -1 when the polygon outgrew
+ * the lane's work buffers, and in *result the buffer holding the corners. */
 static __device__ __forceinline__ int clip_warp_item(int item, const poly_clip_faces &a, const poly_clip_faces &b,
                                                      const ClipWarpMemory &m, double (*work)[3 * POLY_CLIP_WARP_POLYGON],
                                                      double **result)
@@ -88,6 +115,19 @@ static __device__ __forceinline__ int clip_warp_item(int item, const poly_clip_f
                                  poly_clip_mask_of(other.piece_front + piece), poly_clip_mask_of(other.piece_back + piece),
                                  work[0], work[1],
                                  POLY_CLIP_WARP_POLYGON, result);
+}
+
+/* Does some of item `item`'s face lie inside its piece's planes (poly_clip_face_cuts)? */
+static __device__ __forceinline__ bool clip_warp_item_meets(int item, const poly_clip_faces &a, const poly_clip_faces &b,
+                                                            const ClipWarpMemory &m)
+{
+  const int face = item & 127, of_a = (item >> 7) & 1, piece = item >> 8;
+  const poly_clip_faces &other = of_a ? b : a;
+  poly_clip_mask all_out;
+  poly_clip_face_cuts(of_a ? &a : &b, face, of_a ? m.ahead_a : m.ahead_b, of_a ? m.behind_a : m.behind_b,
+                      poly_clip_mask_of(other.piece_front + piece), poly_clip_mask_of(other.piece_back + piece),
+                      &all_out);
+  return !all_out;
 }
 
 /* The overlap of pair (a, b) on the calling warp; returns 1 when the pair must go to the one-thread kernel. */
@@ -192,6 +232,19 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
     }
     num_items += total;
   }
+  __syncwarp();
+  // Only the items some of whose face is inside the piece's planes, in their order: most faces are wholly outside
+  // a plane, and with them on lanes of their own the clipping below ran on 8 of the 32 lanes (Nsight Compute).
+  int left = 0;
+  for (int first = 0; first < num_items; first += 32) {
+    const int it = first + lane, item = it < num_items ? m.items[it] : 0;
+    const bool meets = it < num_items && clip_warp_item_meets(item, a, b, m);
+    const unsigned with = __ballot_sync(full, meets);
+    __syncwarp();
+    if (meets) m.items[left + __popc(with & ((1u << lane) - 1u))] = item;
+    left += __popc(with);
+  }
+  num_items = left;
   __syncwarp();
   // 3. An item per lane: clipped, summed from the common corner, its corners kept.
   double work[2][3 * POLY_CLIP_WARP_POLYGON];

@@ -206,7 +206,8 @@ POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, con
         for (int k = 0; k < 3; k++) in[3 * c + k] = x[3 * loop[c] + k];
       for (int k = 0; k < other_faces && n >= 3; k++)
         if (some_front & (1u << k)) {
-          n = poly_clip_polygon(in, n, planes + 4 * k, out);
+          n = poly_clip_polygon(in, n, planes + 4 * k, out, POLY_CLIP_MAX_POLYGON);
+          if (n < 0) return 0;
           double *swap = in;
           in = out;
           out = swap;
@@ -340,10 +341,28 @@ POLY_INLINE int poly_clip_sides_of_planes(const double *x, int count, const doub
   return 1;
 }
 
+/* The planes of the other body's piece (behind those of `front`, ahead of those of `back`) that some corner of face
+ * `face` of `body` is outside of, and in *all_out those every corner is outside of (nothing of the face is left). */
+POLY_INLINE poly_clip_mask poly_clip_face_cuts(const poly_clip_faces *body, int face, const poly_clip_mask *ahead,
+                                               const poly_clip_mask *behind, poly_clip_mask front, poly_clip_mask back,
+                                               poly_clip_mask *all_out)
+{
+  const int *loop = body->loop + body->loop_start[face];
+  const int count = body->loop_start[face + 1] - body->loop_start[face];
+  poly_clip_mask all = ~(poly_clip_mask)0, some = 0;
+  for (int c = 0; c < count; c++) {
+    poly_clip_mask out = (ahead[loop[c]] & front) | (behind[loop[c]] & back);
+    all &= out;
+    some |= out;
+  }
+  *all_out = all;
+  return some;
+}
+
 /* Face `face` of `body` (vertices `x` in A's frame, their sides `ahead` and `behind` of the other body's `planes`
  * in A's frame) clipped by the piece of the other body behind the planes of `front` and ahead of those of
- * `back`, in the work buffers (`capacity` corners each): returns the corner count (0: nothing left; -1: it could
- * outgrow the buffers) and in *result the buffer holding them. */
+ * `back`, in the work buffers (`capacity` corners each): returns the corner count (0: nothing left; -1: it
+ * outgrew the buffers) and in *result the buffer holding them. */
 POLY_INLINE int poly_clip_face_by_piece(const poly_clip_faces *body, int face, const double *x,
                                         const poly_clip_mask *ahead, const poly_clip_mask *behind,
                                         const double *planes, poly_clip_mask front, poly_clip_mask back,
@@ -351,16 +370,10 @@ POLY_INLINE int poly_clip_face_by_piece(const poly_clip_faces *body, int face, c
 {
   const int *loop = body->loop + body->loop_start[face];
   const int count = body->loop_start[face + 1] - body->loop_start[face];
-  poly_clip_mask all_out = ~(poly_clip_mask)0, some_out = 0;
-  for (int c = 0; c < count; c++) {
-    poly_clip_mask out = (ahead[loop[c]] & front) | (behind[loop[c]] & back);
-    all_out &= out;
-    some_out |= out;
-  }
+  poly_clip_mask all_out;
+  const poly_clip_mask some_out = poly_clip_face_cuts(body, face, ahead, behind, front, back, &all_out);
   if (all_out) return 0;
-  int most = count;  /* corners after the clipping: at most one more per cutting plane */
-  for (poly_clip_mask m = some_out; m; m &= m - 1) most++;
-  if (most > capacity) return -1;
+  if (count > capacity) return -1;
   double *in = work_in, *out = work_out;
   int n = count;
   for (int c = 0; c < count; c++)
@@ -369,7 +382,8 @@ POLY_INLINE int poly_clip_face_by_piece(const poly_clip_faces *body, int face, c
     int k = poly_clip_mask_lowest(m);
     const double *plane = planes + 4 * k;
     double flipped[4] = {-plane[0], -plane[1], -plane[2], -plane[3]};
-    n = poly_clip_polygon(in, n, (back >> k) & 1 ? flipped : plane, out);
+    n = poly_clip_polygon(in, n, (back >> k) & 1 ? flipped : plane, out, capacity);
+    if (n < 0) return -1;
     double *swap = in;
     in = out;
     out = swap;
@@ -379,7 +393,7 @@ POLY_INLINE int poly_clip_face_by_piece(const poly_clip_faces *body, int face, c
 }
 
 /* The faces `faces` of `body` clipped by a piece of the other body (as poly_clip_face_by_piece); each surviving
- * polygon accumulated. Returns 0 when a polygon could outgrow the work buffers (the pair goes to the general
+ * polygon accumulated. Returns 0 when a polygon outgrew the work buffers (the pair goes to the general
  * path). */
 POLY_INLINE int poly_clip_faces_by_piece(const poly_clip_faces *body, const int *faces, int num_faces,
                                           const double *x, const poly_clip_mask *ahead, const poly_clip_mask *behind,

@@ -107,8 +107,8 @@ static int partition_clip_triangle(const partition *p, const partition_cell *cel
     double plane[4];
     for (int m = 0; m < 4; m++) plane[m] = cell->behind[k] ? q[m] : -q[m];
     plane[3] -= inset;
-    if (n + 1 > 2 * POLY_CLIP_MAX_POLYGON) return 0;
-    n = poly_clip_polygon(in, n, plane, out);
+    n = poly_clip_polygon(in, n, plane, out, 2 * POLY_CLIP_MAX_POLYGON);
+    if (n < 0) return 0;
     double *swap = in;
     in = out;
     out = swap;

@@ -241,3 +241,21 @@ def test_partition_of_dented_cubes(driver, tmp_path, seed):  # noqa: F811
     assert values["flag_differences"] == 0 and values["wrongly_filtered"] == 0, log
     assert values["smoothed"] <= values["fallbacks"] <= 0.1 * values["poses"], log
     assert values["codes_given"] >= 10 and values["codes_holding"] == values["codes_given"], log
+
+
+def test_clip_polygon_matches_the_reference_step_and_its_capacity(tmp_path):
+    """poly_clip_polygon (src/poly_clip_polygon.h) carries each corner's side to the next edge instead of keeping
+    an array of them (which on the GPU was local memory the warp kernel waited on, and on the host could be
+    overrun by the partition's polygons of more than 32 corners), and takes its output's capacity. Against the
+    array form on convex polygons of 3 to 48 corners clipped by up to 8 planes each: the same corners bit for bit,
+    the same with the capacity set to the corner count, -1 with one less (tests/unit/clip_polygon_check.c)."""
+    if not shutil.which("gcc"):
+        pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
+    binary = str(tmp_path / "clip_polygon_check")
+    subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-I" + os.path.join(ROOT, "src"),
+                    os.path.join(ROOT, "tests", "unit", "clip_polygon_check.c"), "-lm", "-o", binary], check=True)
+    result = subprocess.run([binary], capture_output=True, text=True)
+    counts = dict(zip(result.stdout.split()[0::2], map(int, result.stdout.split()[1::2])))
+    assert counts["steps"] > 50000 and counts["grew"] > 1000, result.stdout  # the cases it is meant to cover
+    assert counts["mismatches"] == 0 and counts["capacity_failures"] == 0, result.stdout
+    assert result.returncode == 0, result.stdout + result.stderr

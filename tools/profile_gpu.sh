@@ -3,6 +3,13 @@
 #
 #   bash tools/profile_gpu.sh [pairs] [precision] [shapes]
 #   bash tools/profile_gpu.sh 200000 double "schoenhardt rock_10 rock_40 cube tetrahedron"   (the defaults)
+#   bash tools/profile_gpu.sh --sass [pairs] [shape]     (where the warp clipping kernel's stall samples fall)
+#
+# --sass: ncu's SourceCounters of clip_warp_kernel on the bed pairs of one shape (default 200000, schoenhardt),
+# its SASS page cut into windows of 250 instructions in program order, and per window holding at least 1 % of the
+# stall samples: that share, the warp instructions executed and the threads per instruction (32: none idle),
+# then the windows' five hottest instructions. Which source a window is (the clipping loop: its side products,
+# DMUL and DFMA, and corner stores, STL; the contact law: one thread an instruction) is read from them.
 #
 # For each shape, `ncu` profiles the contact kernels of one step of build/tests/gpu_agreement SHAPES PAIRS
 # PRECISION bed SHAPE (the packed bed's pair mix of tools/bench_gpu.sh; the driver's first launch of each kernel,
@@ -14,6 +21,19 @@
 # (the lent GPU machines have it); leaves the clocks alone (--clock-control none). Prints the GPU and the commit.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+if [ "${1:-}" = "--sass" ]; then
+  pairs="${2:-200000}"
+  shape="${3:-schoenhardt}"
+  command -v ncu > /dev/null || { echo "ncu (Nsight Compute) is not on the PATH" >&2; exit 1; }
+  source "$root/tools/bench_gpu_common.sh"
+  echo "commit: $commit; $pairs bed pairs of $shape, double; clip_warp_kernel's stall samples by SASS window"
+  work="$(mktemp -d)"
+  trap 'rm -rf "$work"' EXIT
+  ncu --clock-control none --kernel-name clip_warp_kernel --launch-skip 1 --launch-count 1 --section SourceCounters \
+    -o "$work/report" "$root/build/tests/gpu_agreement" "$root/examples/shapes" "$pairs" double bed "$shape" > /dev/null
+  ncu -i "$work/report.ncu-rep" --page source --csv --print-source sass > "$work/sass.csv"
+  exec /usr/bin/env python3 "$root/tools/profile_sass_windows.py" "$work/sass.csv"
+fi
 pairs="${1:-200000}"
 precision="${2:-double}"
 shapes="${3:-schoenhardt rock_10 rock_40 cube tetrahedron}"

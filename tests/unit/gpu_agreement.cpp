@@ -363,7 +363,8 @@ int main(int argc, char **argv)
     }
     poly_shape_view_free_f(&view_f);
   }
-  printf("device memory %.1f MiB\n", poly_gpu_bytes() / 1048576.0);
+  printf("device memory %.1f MiB; clipping warp kernel: %d pairs a warp, %ld bytes of shared memory a warp\n",
+         poly_gpu_bytes() / 1048576.0, poly_gpu_timings().clip_warp_pairs, poly_gpu_timings().clip_warp_bytes);
   poly_gpu_clear();
   printf(failures ? "FAIL\n" : "OK\n");
   return failures ? 1 : 0;
