@@ -46,7 +46,7 @@ __global__ void __launch_bounds__(kThreads)
   if (faces_i.num_faces == 0 || faces_j.num_faces == 0 ||
       !poly_clip_overlap_of(&faces_i, &faces_j, pair.rotation, pair.translation,
                             shapes.radius[pair.body_i->shape] + shapes.radius[pair.body_j->shape], settings.rocking,
-                            Pieces, &clip)) {
+                            Pieces, &clip, NULL)) {
     handed_back[atomicAdd(counters + 2, 1)] = p;
     return;
   }

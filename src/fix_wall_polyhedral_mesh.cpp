@@ -303,6 +303,7 @@ void FixWallPolyhedral::compute_overlaps()
     poly_pose particle_pose = {{x[i][0], x[i][1], x[i][2]},
                                {quaternion[i][0], quaternion[i][1], quaternion[i][2], quaternion[i][3]}};
     workspace.want_second_moment = use_rocking;
+    workspace.want_nodes = 1;  // the pieces' corners, for the contact's depth (poly_mesh_contact_combine)
     poly_overlap_d(&pair->shape_view(shapetype[i]), &particle_pose, &prism.view, &prism_pose, &workspace,
                    &overlaps[c]);
     if (!(overlaps[c].volume > 0.0) || workspace.num_points > workspace.capacity_points) continue;

@@ -92,6 +92,25 @@ typedef struct poly_clip_result {
   int separating;  /* apart: the plane that parts them as poly_overlap_result's code ((triangle << 1) | of_b); else -1 */
 } poly_clip_result;
 
+/* Where the clipping leaves the intersection's corners when a caller asks (the mesh walls, whose contact depth is
+ * the extent of the union of several overlaps' corners): `count` corners (each corner once per polygon that has
+ * it) relative to `origin`, A's frame; count -1 when more than `capacity` or when the pieces' corners overflowed
+ * (the extent came from a second pass). */
+typedef struct poly_clip_corners {
+  double *points;
+  int capacity, count;
+  double origin[3];
+} poly_clip_corners;
+
+/* Hands `count` corners relative to `origin` to `corners` (when given). */
+POLY_INLINE void poly_clip_keep_corners(const double *nodes, int count, const double *origin, poly_clip_corners *corners)
+{
+  if (!corners) return;
+  corners->count = count <= corners->capacity ? count : -1;
+  for (int k = 0; k < 3; k++) corners->origin[k] = origin[k];
+  for (int c = 0; c < 3 * count && count <= corners->capacity; c++) corners->points[c] = nodes[c];
+}
+
 typedef struct poly_clip_sums {
   double volume6, moment24[3], second120[6], area_vector[3], area;
   int want_second;
@@ -432,7 +451,8 @@ POLY_INLINE void poly_clip_piece_sides(const poly_clip_faces *body, const poly_c
  * piece clipped by A's piece, and A's faces on A's piece by B's piece (twice when the corners overflow). */
 POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *xb,
                                          const double *rotation, const double *translation, double flush,
-                                         poly_clip_accumulator *acc, poly_clip_result *out)
+                                         poly_clip_accumulator *acc, poly_clip_result *out,
+                                         poly_clip_corners *corners)
 {
   double planes_b[4 * POLY_CLIP_MAX_SHAPE_PLANES];
   poly_clip_mask ahead_a[POLY_CLIP_MAX_VERTICES + 1], behind_a[POLY_CLIP_MAX_VERTICES + 1];
@@ -483,9 +503,13 @@ POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_cl
           return 0;
       }
     }
-    if (pass == 0 && poly_clip_finish(acc, translation, out)) return 1;
+    if (pass == 0 && poly_clip_finish(acc, translation, out)) {
+      poly_clip_keep_corners(acc->nodes, acc->num_kept, acc->reference, corners);
+      return 1;
+    }
   }
   poly_clip_finish_depth(acc, out);
+  if (corners) corners->count = -1;
   return 1;
 }
 
@@ -495,7 +519,7 @@ POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_cl
  * the first corner. */
 POLY_INLINE int poly_clip_convex_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *xb,
                                          const double *rotation, const double *translation, double flush,
-                                         int want_second, poly_clip_result *out)
+                                         int want_second, poly_clip_result *out, poly_clip_corners *corners)
 {
   double planes_b[4 * POLY_CLIP_MAX_PLANES];
   unsigned front_a[POLY_CLIP_MAX_VERTICES], front_b[POLY_CLIP_MAX_VERTICES], parting = 0;
@@ -538,6 +562,7 @@ POLY_INLINE int poly_clip_convex_overlap(const poly_clip_faces *a, const poly_cl
   double low = 1e300, high = -1e300;
   poly_clip_extent(nodes, num_nodes, out->normal, &low, &high);
   out->depth = high > low ? high - low : 0.0;
+  poly_clip_keep_corners(nodes, num_nodes, reference, corners);
   return 1;
 }
 
@@ -550,10 +575,11 @@ POLY_INLINE int poly_clip_takes(const poly_clip_faces *faces)
 }
 
 /* poly_clip_overlap; with `pieces` 0 (a constant, so that a GPU kernel for convex shapes carries no stack for
- * pieces) pairs of shapes with several pieces are handed back. */
+ * pieces) pairs of shapes with several pieces are handed back. With `corners` (else NULL), the intersection's
+ * corners too (count 0 when apart). */
 POLY_INLINE int poly_clip_overlap_of(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
                                      const double *translation, double size, int want_second, int pieces,
-                                     poly_clip_result *out)
+                                     poly_clip_result *out, poly_clip_corners *corners)
 {
   if (!pieces && (a->num_pieces != 1 || b->num_pieces != 1)) return 0;
   double xb[3 * POLY_CLIP_MAX_VERTICES];
@@ -566,19 +592,21 @@ POLY_INLINE int poly_clip_overlap_of(const poly_clip_faces *a, const poly_clip_f
   out->num_nodes = 0;
   out->separating = -1;
   for (int e = 0; e < 6; e++) out->second_moment[e] = 0.0;
+  if (corners) corners->count = 0;
   if (a->num_pieces == 1 && b->num_pieces == 1)
-    return poly_clip_convex_overlap(a, b, xb, rotation, translation, flush, want_second, out);
+    return poly_clip_convex_overlap(a, b, xb, rotation, translation, flush, want_second, out, corners);
   poly_clip_accumulator acc;
   poly_clip_accumulator_start(&acc, want_second);
-  return poly_clip_pieces_overlap(a, b, xb, rotation, translation, flush, &acc, out);
+  return poly_clip_pieces_overlap(a, b, xb, rotation, translation, flush, &acc, out, corners);
 }
 
 /* The overlap of A and B, B's body frame taken to A's by `rotation` (row-major) and `translation`. Returns 1
  * with `out` filled (volume 0: apart), or 0 when the pair must take the general path (flush faces). */
 POLY_INLINE int poly_clip_overlap(const poly_clip_faces *a, const poly_clip_faces *b, const double *rotation,
-                                  const double *translation, double size, int want_second, poly_clip_result *out)
+                                  const double *translation, double size, int want_second, poly_clip_result *out,
+                                  poly_clip_corners *corners)
 {
-  return poly_clip_overlap_of(a, b, rotation, translation, size, want_second, 1, out);
+  return poly_clip_overlap_of(a, b, rotation, translation, size, want_second, 1, out, corners);
 }
 
 #endif

@@ -485,6 +485,73 @@ static int prism_add_triangle(int *triangles, int count, int a, int b, int c)
  * outwards, as over a flat or convex stretch of wall), its faces (coplanar triangles merged) and ridges, so
  * that a convex particle and it take the blocks path. Otherwise the general path (a side quad folded inwards
  * makes the prism non-convex). */
+/* Points view.clip at the prism's own clip arrays (faces found by prism_clip_faces), or at none. */
+static void prism_bind_clip(poly_mesh_prism *prism, int num_faces)
+{
+  poly_clip_faces *clip = &prism->view.clip;
+  memset(clip, 0, sizeof *clip);
+  if (num_faces == 0) return;
+  clip->num_faces = clip->num_planes = num_faces;
+  clip->num_vertices = 6;
+  clip->vertices = prism->vertices;
+  clip->planes = prism->clip_planes;
+  clip->loop_start = prism->clip_loop_start;
+  clip->loop = prism->clip_loop;
+  clip->triangle = prism->clip_face_triangle;
+  clip->num_pieces = 1;
+  clip->piece_front = &prism->clip_piece_front;
+  clip->piece_back = &prism->clip_piece_back;
+  clip->piece_point_start = prism->clip_piece_point_start;
+  clip->piece_points = prism->clip_piece_points;
+  clip->piece_face_start = prism->clip_piece_face_start;
+  clip->piece_faces = prism->clip_piece_faces;
+  clip->plane_support = prism->clip_plane_support;
+  clip->support_planes.low = (1ull << num_faces) - 1ull;
+  clip->support_planes.high = 0ull;
+  clip->face_plane = prism->clip_face_plane;
+}
+
+/* A convex prism's faces as the clipping path takes them (as poly_convex.c's find_clip_faces does for a shape):
+ * per face the plane of its lowest triangle and its boundary edges chained in the triangles' order; one piece.
+ * Every triangle supports a convex prism, so support[m] = m and a face's supporting triangle is its own. */
+static void prism_clip_faces(poly_mesh_prism *prism)
+{
+  int num_faces = 0, used = 0;
+  for (int t = 0; t < 8; t++) {
+    if (prism->face_of[t] != t) continue;
+    const int f = num_faces++;
+    const double *n = prism->face_normals + 3 * t, *x = prism->vertices + 3 * prism->triangles[3 * t];
+    for (int k = 0; k < 3; k++) prism->clip_planes[4 * f + k] = n[k];
+    prism->clip_planes[4 * f + 3] = shell_dot(n, x);
+    prism->clip_face_triangle[f] = prism->clip_plane_support[f] = t;
+    prism->clip_face_plane[f] = prism->clip_piece_faces[f] = f;
+    int next[6] = {-1, -1, -1, -1, -1, -1}, first = -1, count = 0;
+    for (int e = 0; e < prism->view.num_edges; e++) {
+      int t0 = prism->edge_triangles[2 * e], t1 = prism->edge_triangles[2 * e + 1];
+      if (prism->face_of[t0] == prism->face_of[t1]) continue;
+      int a = prism->edges[2 * e], b = prism->edges[2 * e + 1];
+      if (prism->face_of[t0] == t) next[a] = b, first = a, count++;
+      else if (prism->face_of[t1] == t) next[b] = a, first = b, count++;
+    }
+    prism->clip_loop_start[f] = used;
+    for (int v = first, steps = 0; steps < count; steps++, v = next[v]) {
+      if (v < 0) {  /* not one loop: cannot happen for a proper prism; the other paths take it */
+        prism_bind_clip(prism, 0);
+        return;
+      }
+      prism->clip_loop[used++] = v;
+    }
+  }
+  prism->clip_loop_start[num_faces] = used;
+  prism->clip_piece_front.low = (1ull << num_faces) - 1ull;
+  prism->clip_piece_front.high = prism->clip_piece_back.low = prism->clip_piece_back.high = 0ull;
+  prism->clip_piece_point_start[0] = prism->clip_piece_face_start[0] = 0;
+  prism->clip_piece_point_start[1] = 6;
+  prism->clip_piece_face_start[1] = num_faces;
+  for (int v = 0; v < 6; v++) prism->clip_piece_points[v] = v;
+  prism_bind_clip(prism, num_faces);
+}
+
 static void prism_faces(poly_mesh_prism *prism)
 {
   const double tolerance = 1e-12 * prism->view.bounding_radius;
@@ -503,6 +570,7 @@ static void prism_faces(poly_mesh_prism *prism)
   prism->view.num_support = num_support;
   prism->view.face_of = prism->view.ridges = NULL;
   prism->view.num_ridges = 0;
+  prism_bind_clip(prism, 0);
   if (num_support < 8) return;
   for (int t = 0; t < 8; t++) prism->face_of[t] = t;
   /* Merge the two triangles of an edge when they lie in one plane (a planar side quad); a prism's faces are
@@ -529,6 +597,7 @@ static void prism_faces(poly_mesh_prism *prism)
   prism->view.face_of = prism->face_of;
   prism->view.ridges = prism->ridges;
   prism->view.num_ridges = num_ridges;
+  prism_clip_faces(prism);
 }
 
 int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3],
@@ -609,7 +678,6 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
   prism->view.edges = prism->edges;
   prism->view.edge_triangles = prism->edge_triangles;
   prism->view.bounding_radius = sqrt(radius2);
-  prism->view.clip.num_faces = 0;  /* prisms take the convex or general path (their nodes are read back) */
   prism_faces(prism);
   return 0;
 }
@@ -625,6 +693,7 @@ void poly_mesh_prism_rebind(poly_mesh_prism *prism)
   prism->view.support = prism->support;
   prism->view.face_of = convex ? prism->face_of : NULL;
   prism->view.ridges = convex ? prism->ridges : NULL;
+  prism_bind_clip(prism, prism->view.clip.num_faces);
 }
 
 void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *nodes, const int *first_node,

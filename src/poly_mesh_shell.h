@@ -115,6 +115,12 @@ typedef struct poly_mesh_prism {
   int support[8];   /* the triangles whose planes have every corner behind them */
   int face_of[8];   /* when all 8 do (a convex prism): per triangle its face's lowest triangle */
   int ridges[12];   /* and the edges between two faces */
+  /* A convex prism's faces for the clipping path (poly_clip.h; view.clip.num_faces 0 otherwise): per face its
+   * plane, its corners in order, a triangle of it; one piece of them all. */
+  double clip_planes[32];
+  int clip_loop_start[9], clip_loop[24], clip_face_triangle[8], clip_plane_support[8], clip_face_plane[8];
+  int clip_piece_point_start[2], clip_piece_points[6], clip_piece_face_start[2], clip_piece_faces[8];
+  poly_clip_words clip_piece_front, clip_piece_back;
   poly_shape_view_d view;
 } poly_mesh_prism;
 

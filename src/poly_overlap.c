@@ -132,8 +132,9 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
 
 /* The clipping path (poly_clip.h) for two shapes with clip faces, in double (also for mixed precision, whose
  * contact law is in double: the clipping is cheaper than the single-precision general path and exact to double
- * rounding); 1 when it gave the answer. Single precision keeps the general path. */
-#define POLY_OVERLAP_BY_CLIPPING(NAME, SUFFIX)                                                          \
+ * rounding); 1 when it gave the answer. Single precision keeps the general path. POINTS: the workspace's nodes
+ * where they are doubles (ws->want_nodes), else NULL. */
+#define POLY_OVERLAP_BY_CLIPPING(NAME, SUFFIX, POINTS)                                                  \
   static int NAME(const poly_shape_view##SUFFIX *a, const poly_shape_view##SUFFIX *b,                 \
                                          const double *rotation, const double *translation,           \
                                          poly_overlap_workspace##SUFFIX *ws, double *local_centroid,   \
@@ -152,8 +153,13 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
       }                                                                                               \
     }                                                                                                 \
     poly_clip_result clip;                                                                            \
+    double *points = POINTS;                                                                          \
+    poly_clip_corners corners = {points, ws->capacity_points, 0, {0.0, 0.0, 0.0}};                    \
+    poly_clip_corners *keep = points && ws->want_nodes ? &corners : NULL;                             \
     if (!poly_clip_overlap(&a->clip, &b->clip, rotation, translation,                                 \
-                           (double)a->bounding_radius + (double)b->bounding_radius, ws->want_second_moment, &clip)) { \
+                           (double)a->bounding_radius + (double)b->bounding_radius, ws->want_second_moment, &clip, \
+                           keep) ||                                                                   \
+        (keep && corners.count < 0)) { /* flush faces, or corners the workspace does not hold */      \
       ws->clip_fallbacks++;                                                                           \
       return 0;                                                                                       \
     }                                                                                                 \
@@ -170,12 +176,13 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
       local_centroid[k] = clip.centroid[k];                                                           \
       local_normal[k] = clip.normal[k];                                                               \
     }                                                                                                 \
-    ws->num_points = 0; /* no nodes kept: the mesh walls, which read them, do not come here */        \
+    ws->num_points = keep ? corners.count : 0;                                                        \
+    for (int k = 0; k < 3; k++) ws->origin[k] = corners.origin[k];                                    \
     return 1;                                                                                         \
   }
 
-POLY_OVERLAP_BY_CLIPPING(overlap_by_clipping_d, _d)
-POLY_OVERLAP_BY_CLIPPING(overlap_by_clipping_m, _f)
+POLY_OVERLAP_BY_CLIPPING(overlap_by_clipping_d, _d, ws->points)
+POLY_OVERLAP_BY_CLIPPING(overlap_by_clipping_m, _f, (double *)NULL)
 static int overlap_by_clipping_f(const poly_shape_view_f *a, const poly_shape_view_f *b, const double *rotation,
                                       const double *translation, poly_overlap_workspace_f *ws, double *local_centroid,
                                       double *local_normal, poly_overlap_result *result)

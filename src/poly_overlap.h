@@ -115,6 +115,8 @@ typedef struct poly_overlap_result {
     int use_convex;                    /* 1 (default): convex shapes take the convex path (poly_overlap_convex_impl.h), with the filter on */ \
     int use_clip;                      /* 1 (default): pairs of shapes with clip faces take poly_clip.h (double entry only) */ \
     int clip_fallbacks;                /* pairs with clip faces it handed to the other paths (flush faces) */ \
+    int want_nodes;                    /* 1: the clipping path (double) leaves its corners in `points` too, or hands the \
+                                          pair on when they do not fit (the mesh walls' depth); 0 (default): none */ \
     int capacity_sides, convex_fallbacks; /* convex path: side table size; passes it left to the general path */ \
     REAL *sides;                       /* convex path: per vertex used, its plane_side for each face */ \
     int *faces_a, *faces_b, *face_column_a, *face_column_b; /* its faces, and their columns per face */ \

@@ -129,8 +129,11 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
    * POLY_OVERLAP_RECORDS): as many as nodes, each crossing being one, and more
    * take the reference path; runs: one per edge of both bodies (a closed mesh
    * has 3/2 as many edges as triangles); chord ends: two per record, bucketed
-   * by A's triangles. */
+   * by A's triangles. On the host, at least the clipping path's corners (POLY_CLIP_MAX_NODES), which it hands
+   * over here for the mesh walls' depth (want_nodes): a pair of small shapes clipped in pieces can have more than
+   * the formula's (Schoenhardt against a prism: 92). */
   size_t np = 2 * nv + 2 * nt + 64;
+  if (POLY_OVERLAP_RECORDS && np < POLY_CLIP_MAX_NODES) np = POLY_CLIP_MAX_NODES;
   size_t nr = POLY_OVERLAP_RECORDS ? np : 0, nruns = POLY_OVERLAP_RECORDS ? 3 * nt : 0;
   size_t nbuckets = POLY_OVERLAP_RECORDS ? nt : 0;
   /* The convex path's side table: rows of the vertices it clips, a column per face. */
@@ -197,6 +200,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->use_convex = POLY_OVERLAP_RECORDS;
   ws->use_clip = 1;
   ws->clip_fallbacks = 0;
+  ws->want_nodes = 0;
   ws->capacity_grid = (int)nentries;
   ws->use_filter = 1;
   ws->want_second_moment = 0;

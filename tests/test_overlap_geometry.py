@@ -152,6 +152,7 @@ int shim_mesh_wall(const void *a, const double *pose, const double *corners, int
   int used = 0, capacity = 1024, num_pieces = 0;
   double *nodes = (double *)malloc(sizeof(double) * 3 * capacity);
   workspace_d.use_filter = 1;
+  workspace_d.want_nodes = 1;  /* as the wall: the clipping path's corners too */
   for (int t = 0; t < num_triangles; t++) {
     double triangle[3][3];
     for (int c = 0; c < 9; c++) triangle[c / 3][c % 3] = corners[9 * t + c];
@@ -173,6 +174,7 @@ int shim_mesh_wall(const void *a, const double *pose, const double *corners, int
   }
   poly_overlap_result contact;
   poly_mesh_contact_combine(pieces, nodes, first, count, num_pieces, &contact);
+  workspace_d.want_nodes = 0;
   shim_write_result(&contact, out);
   out[12] = num_pieces;
   out[13] = contact.projected_area;

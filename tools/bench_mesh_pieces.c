@@ -8,7 +8,7 @@
  * concave and a convex crease (z = (|x| - |y|) / 4), its shell 2.2 bounding radii thick; particles in random
  * orientations over it, centres from 0.9 radii below to 0.6 above the surface; every prism whose bounding
  * sphere touches the particle's is a piece. Each piece is one poly_overlap_d call (particle, prism) with the
- * second moment on, as the wall computes it. Prints pieces, touching pieces, and pieces per second (median
+ * second moment on and, when they touch, its nodes read back (poly_overlap_nodes_d), as the wall computes it. Prints pieces, touching pieces, and pieces per second (median
  * of `repeats` timings of the whole set). */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
@@ -120,6 +120,8 @@ int main(int argc, char **argv)
     int max_triangles = shape.num_triangles > 8 ? shape.num_triangles : 8;
     poly_overlap_workspace_create_d(&ws, max_vertices, max_triangles);
     ws.want_second_moment = 1;
+    ws.want_nodes = 1;
+    double *nodes = malloc(sizeof(double) * 3 * (size_t)ws.capacity_points);
     poly_shape_view_d view = poly_shape_view_of(&shape);
     double *timings = malloc(sizeof(double) * (size_t)repeats);
     int touching = 0;
@@ -131,7 +133,10 @@ int main(int argc, char **argv)
         poly_pose prism_pose = {{prism->origin[0], prism->origin[1], prism->origin[2]}, {1.0, 0.0, 0.0, 0.0}};
         poly_overlap_result result;
         poly_overlap_d(&view, &particle_poses[p], &prism->view, &prism_pose, &ws, &result);
-        touching += result.volume > 0.0;
+        if (result.volume > 0.0) {
+          touching++;
+          poly_overlap_nodes_d(&ws, &particle_poses[p], nodes, ws.capacity_points);
+        }
       }
       timings[r] = now() - start;
     }
@@ -139,6 +144,7 @@ int main(int argc, char **argv)
     printf("| %s | %d | %d | %.3g |\n", SHAPE_FILES[s], num_pieces, touching, num_pieces / timings[repeats / 2]);
     fflush(stdout);
     free(timings);
+    free(nodes);
     poly_overlap_workspace_destroy_d(&ws);
     free(particle_poses);
     free(piece_prism);

@@ -130,6 +130,7 @@ int main(int argc, char **argv)
   poly_overlap_workspace_f ws_f;
   poly_overlap_workspace_create_d(&ws_d, max_vertices, max_triangles);
   poly_overlap_workspace_create_f(&ws_f, max_vertices, max_triangles);
+  ws_d.want_nodes = 1;  // as the wall asks: the clipping path's corners for the depth
   std::vector<double> node_scratch(3 * (size_t)(ws_d.capacity_points > ws_f.capacity_points ? ws_d.capacity_points
                                                                                                : ws_f.capacity_points));
   const double tolerance = precision == POLY_PRECISION_DOUBLE ? 1e-10 : 1e-4;

@@ -1,0 +1,61 @@
+"""Mesh walls on the clipping path (src/poly_clip.h): a convex prism of a wall's shell has clip faces
+(src/poly_mesh_shell.c), so a particle with clip faces (convex, or in convex pieces: Schönhardt, rock_10) meets it
+by clipping, which keeps the intersection's corners for the contact's depth (ws.want_nodes, as fix
+wall/polyhedral asks). tests/unit/wall_clip_paths.c combines each particle's pieces into its contact with the wall
+(poly_mesh_contact_combine) by that path and by the general path (ws.use_clip = 0) and prints the worst
+differences: volume, centroid and second moment relative to the particle (as tests/test_convex_path.py's clipping
+tolerances, 1e-13), normal and depth weighed by the summed area vector's length over the area (a particle deep in
+the shell has its area vectors nearly cancel; measured: <= 1.1e-15 normal, <= 1e-15 depth, <= 4.7e-14 volume).
+Over a random height field most prisms are not convex (a twisted side is convex for one of its two neighbours
+only) and keep the general path; over a plane all are convex and nearly every piece is clipped."""
+import os
+import re
+import shutil
+import subprocess
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHAPES = os.path.join(ROOT, "examples", "shapes")
+TOLERANCE = {"volume": 1e-13, "centroid": 1e-13, "normal": 1e-13, "depth": 1e-13, "second": 1e-13}
+
+
+@pytest.fixture(scope="module")
+def driver(tmp_path_factory):
+    if not shutil.which("gcc"):
+        pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
+    binary = str(tmp_path_factory.mktemp("wall_clip") / "wall_clip_paths")
+    sources = [os.path.join(ROOT, "tests", "unit", "wall_clip_paths.c")] + [
+        os.path.join(ROOT, "src", name)
+        for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c", "poly_mesh_shell.c")]
+    subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-I" + os.path.join(ROOT, "src")] +
+                   sources + ["-lm", "-o", binary], check=True)
+    return binary
+
+
+def run(driver, shape, count, flat):
+    out = subprocess.run([driver, os.path.join(SHAPES, shape), str(count)] + (["flat"] if flat else []),
+                         capture_output=True, text=True, check=True).stdout
+    values = {key: float(value) for key, value in re.findall(r"([a-z_]+) ([-0-9.e+]+)", out)}
+    return values, out
+
+
+@pytest.mark.parametrize("flat", [True, False], ids=["plane", "height-field"])
+@pytest.mark.parametrize("shape", ["schoenhardt.stl", "rock_10.obj", "cube.stl", "tetrahedron.obj"])
+def test_clipped_wall_contacts_agree_with_the_general_path(driver, shape, flat):
+    values, out = run(driver, shape, 300, flat)
+    assert values["contacts"] >= 250, out
+    for quantity, limit in TOLERANCE.items():
+        assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{out}"
+    # The path under test was taken: every prism over the plane is convex, and all but flush pairs are clipped.
+    offered, handed_back = values["clip_offered"], values["clip_handed_back"]
+    if flat:
+        assert values["convex_prisms"] == values["of"] and offered == values["pieces"], out
+    assert offered >= 0.1 * values["pieces"] and handed_back <= 0.01 * offered, out
+
+
+def test_shapes_beyond_the_clipping_path_keep_the_general_path(driver):
+    """rock_40's pieces have more faces than the host's clipping path takes: its wall pieces are never offered."""
+    values, out = run(driver, "rock_40.obj", 20, True)
+    assert values["clip_offered"] == 0 and values["contacts"] >= 15, out
+    assert all(values[quantity] == 0.0 for quantity in TOLERANCE), out
