@@ -298,7 +298,8 @@ void FixWallPolyhedral::compute_overlaps()
   }
   for (size_t c = 0; c < count; c++) {
     int i = candidates[c].particle;
-    const poly_mesh_prism &prism = prisms[candidates[c].prism];
+    poly_mesh_prism &prism = prisms[candidates[c].prism];
+    poly_mesh_prism_prepare(&prism, &pair->shape_view(shapetype[i]));
     poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
     poly_pose particle_pose = {{x[i][0], x[i][1], x[i][2]},
                                {quaternion[i][0], quaternion[i][1], quaternion[i][2], quaternion[i][3]}};

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "poly_clip.h"
 #include "poly_shape.h"
 
 static void shell_sub(const double *a, const double *b, double *out)
@@ -485,29 +486,32 @@ static int prism_add_triangle(int *triangles, int count, int a, int b, int c)
  * outwards, as over a flat or convex stretch of wall), its faces (coplanar triangles merged) and ridges, so
  * that a convex particle and it take the blocks path. Otherwise the general path (a side quad folded inwards
  * makes the prism non-convex). */
-/* Points view.clip at the prism's own clip arrays (faces found by prism_clip_faces), or at none. */
+/* Points view.clip at the prism's own clip arrays (faces found by prism_clip_faces or prism_clip_tetrahedra; their
+ * counts in the prism), or at none. */
 static void prism_bind_clip(poly_mesh_prism *prism, int num_faces)
 {
   poly_clip_faces *clip = &prism->view.clip;
   memset(clip, 0, sizeof *clip);
   if (num_faces == 0) return;
-  clip->num_faces = clip->num_planes = num_faces;
+  clip->num_faces = num_faces;
+  clip->num_planes = prism->clip_num_planes;
   clip->num_vertices = 6;
   clip->vertices = prism->vertices;
   clip->planes = prism->clip_planes;
   clip->loop_start = prism->clip_loop_start;
   clip->loop = prism->clip_loop;
   clip->triangle = prism->clip_face_triangle;
-  clip->num_pieces = 1;
-  clip->piece_front = &prism->clip_piece_front;
-  clip->piece_back = &prism->clip_piece_back;
+  clip->num_pieces = prism->clip_num_pieces;
+  clip->piece_front = prism->clip_piece_front;
+  clip->piece_back = prism->clip_piece_back;
   clip->piece_point_start = prism->clip_piece_point_start;
   clip->piece_points = prism->clip_piece_points;
   clip->piece_face_start = prism->clip_piece_face_start;
   clip->piece_faces = prism->clip_piece_faces;
   clip->plane_support = prism->clip_plane_support;
-  clip->support_planes.low = (1ull << num_faces) - 1ull;
-  clip->support_planes.high = 0ull;
+  clip->support_planes.low = clip->support_planes.high = 0ull;
+  for (int k = 0; k < prism->clip_num_planes; k++)
+    if (prism->clip_plane_support[k] >= 0) clip->support_planes.low |= 1ull << k;
   clip->face_plane = prism->clip_face_plane;
 }
 
@@ -535,21 +539,124 @@ static void prism_clip_faces(poly_mesh_prism *prism)
     }
     prism->clip_loop_start[f] = used;
     for (int v = first, steps = 0; steps < count; steps++, v = next[v]) {
-      if (v < 0) {  /* not one loop: cannot happen for a proper prism; the other paths take it */
-        prism_bind_clip(prism, 0);
-        return;
-      }
+      if (v < 0) return;  /* not one loop: cannot happen for a proper prism; the other paths take it */
       prism->clip_loop[used++] = v;
     }
   }
   prism->clip_loop_start[num_faces] = used;
-  prism->clip_piece_front.low = (1ull << num_faces) - 1ull;
-  prism->clip_piece_front.high = prism->clip_piece_back.low = prism->clip_piece_back.high = 0ull;
+  prism->clip_num_planes = num_faces;
+  prism->clip_num_pieces = 1;
+  prism->clip_piece_front[0].low = (1ull << num_faces) - 1ull;
+  prism->clip_piece_front[0].high = prism->clip_piece_back[0].low = prism->clip_piece_back[0].high = 0ull;
   prism->clip_piece_point_start[0] = prism->clip_piece_face_start[0] = 0;
   prism->clip_piece_point_start[1] = 6;
   prism->clip_piece_face_start[1] = num_faces;
   for (int v = 0; v < 6; v++) prism->clip_piece_points[v] = v;
   prism_bind_clip(prism, num_faces);
+}
+
+/* Index of plane (n, offset) among the prism's clip planes, added when new (within 1e-12 of the prism's size;
+ * -1 when the 10 it holds are taken); *opposite 1 when it is stored facing the other way. */
+static int prism_plane(poly_mesh_prism *prism, const double *n, double offset, int *opposite)
+{
+  const double tolerance = 1e-12 * prism->view.bounding_radius;
+  for (int k = 0; k < prism->clip_num_planes; k++) {
+    const double *q = prism->clip_planes + 4 * k, cosine = shell_dot(n, q);
+    *opposite = cosine < 0.0;
+    if (fabs(cosine) > 1.0 - 1e-12 && fabs(*opposite ? offset + q[3] : offset - q[3]) <= tolerance) return k;
+  }
+  if (prism->clip_num_planes == 10) return -1;
+  const int k = prism->clip_num_planes++;
+  for (int c = 0; c < 3; c++) prism->clip_planes[4 * k + c] = n[c];
+  prism->clip_planes[4 * k + 3] = offset;
+  *opposite = 0;
+  return k;
+}
+
+/* A prism that is not convex as the three tetrahedra of its split, pieces for the clipping path: `diagonals` (per
+ * side c, 1 when its diagonal runs from top corner c to bottom corner c + 1, else 2) must run from one top corner
+ * s to both others' bottoms and from both others' tops to one bottom t (no cycle: else it keeps the general path),
+ * and each tetrahedron must have a volume. The faces are the prism's 8 triangles, each on the tetrahedron that has
+ * its corners; the planes theirs (a planar side's two triangles share one) and the two between the tetrahedra. */
+static void prism_clip_tetrahedra(poly_mesh_prism *prism, const int diagonals[3])
+{
+  int out_degree[3] = {0, 0, 0}, in_degree[3] = {0, 0, 0}, s = -1, t = -1;
+  for (int c = 0; c < 3; c++) {
+    int next = (c + 1) % 3;
+    out_degree[diagonals[c] == 1 ? c : next]++;
+    in_degree[diagonals[c] == 1 ? next : c]++;
+  }
+  for (int c = 0; c < 3; c++) {
+    if (out_degree[c] == 2) s = c;
+    if (in_degree[c] == 2) t = c;
+  }
+  if (s < 0 || t < 0) return;
+  const int m = 3 - s - t;
+  const int tetrahedra[3][4] = {{s, m, t, t + 3}, {s, m, m + 3, t + 3}, {s, s + 3, m + 3, t + 3}};
+  const double tolerance = 1e-9 * prism->view.bounding_radius;
+  prism->clip_num_planes = 0;
+  int face_piece[8];
+  for (int f = 0; f < 8; f++) {
+    const int *tri = prism->triangles + 3 * f;
+    const double *n = prism->face_normals + 3 * f;
+    int opposite;
+    prism->clip_face_plane[f] = prism_plane(prism, n, shell_dot(n, prism->vertices + 3 * tri[0]), &opposite);
+    if (prism->clip_face_plane[f] < 0) return;
+    face_piece[f] = -1;
+    for (int p = 0; p < 3 && face_piece[f] < 0; p++) {
+      int found = 0;
+      for (int c = 0; c < 3; c++)
+        for (int v = 0; v < 4; v++) found += tetrahedra[p][v] == tri[c];
+      if (found == 3) face_piece[f] = p;
+    }
+    if (face_piece[f] < 0 || opposite) return;
+    prism->clip_face_triangle[f] = f;
+    for (int c = 0; c < 3; c++) prism->clip_loop[3 * f + c] = tri[c];
+    prism->clip_loop_start[f] = 3 * f;
+  }
+  prism->clip_loop_start[8] = 24;
+  /* Each tetrahedron behind the planes of its four faces (outward: away from the corner opposite). */
+  int used_faces = 0;
+  for (int p = 0; p < 3; p++) {
+    prism->clip_piece_front[p].low = prism->clip_piece_front[p].high = 0ull;
+    prism->clip_piece_back[p].low = prism->clip_piece_back[p].high = 0ull;
+    for (int opposite_corner = 0; opposite_corner < 4; opposite_corner++) {
+      const double *x[3], *apex = prism->vertices + 3 * tetrahedra[p][opposite_corner];
+      for (int c = 0, k = 0; c < 4; c++)
+        if (c != opposite_corner) x[k++] = prism->vertices + 3 * tetrahedra[p][c];
+      double u[3], w[3], n[3];
+      shell_sub(x[1], x[0], u);
+      shell_sub(x[2], x[0], w);
+      shell_cross(u, w, n);
+      if (!(shell_normalize(n) > 0.0)) return;
+      double offset = shell_dot(n, x[0]), height = shell_dot(n, apex) - offset;
+      if (height > 0.0) {
+        for (int k = 0; k < 3; k++) n[k] = -n[k];
+        offset = -offset;
+        height = -height;
+      }
+      if (!(-height > tolerance)) return;  /* a flat tetrahedron */
+      int opposite, k = prism_plane(prism, n, offset, &opposite);
+      if (k < 0) return;
+      if (opposite) prism->clip_piece_back[p].low |= 1ull << k;
+      else prism->clip_piece_front[p].low |= 1ull << k;
+    }
+    prism->clip_piece_point_start[p] = 4 * p;
+    prism->clip_piece_face_start[p] = used_faces;
+    for (int c = 0; c < 4; c++) prism->clip_piece_points[4 * p + c] = tetrahedra[p][c];
+    for (int f = 0; f < 8; f++)
+      if (face_piece[f] == p) prism->clip_piece_faces[used_faces++] = f;
+  }
+  prism->clip_piece_point_start[3] = 12;
+  prism->clip_piece_face_start[3] = used_faces;
+  /* A plane supports the prism where one of its supporting triangles lies on it (the separation test). */
+  for (int k = 0; k < prism->clip_num_planes; k++) {
+    prism->clip_plane_support[k] = -1;
+    for (int q = 0; q < prism->view.num_support && prism->clip_plane_support[k] < 0; q++)
+      if (prism->clip_face_plane[prism->support[q]] == k) prism->clip_plane_support[k] = q;
+  }
+  prism->clip_num_pieces = 3;
+  prism_bind_clip(prism, 8);
 }
 
 static void prism_faces(poly_mesh_prism *prism)
@@ -571,6 +678,7 @@ static void prism_faces(poly_mesh_prism *prism)
   prism->view.face_of = prism->view.ridges = NULL;
   prism->view.num_ridges = 0;
   prism_bind_clip(prism, 0);
+  prism->clip_state = 0;
   if (num_support < 8) return;
   for (int t = 0; t < 8; t++) prism->face_of[t] = t;
   /* Merge the two triangles of an edge when they lie in one plane (a planar side quad); a prism's faces are
@@ -597,7 +705,19 @@ static void prism_faces(poly_mesh_prism *prism)
   prism->view.face_of = prism->face_of;
   prism->view.ridges = prism->ridges;
   prism->view.num_ridges = num_ridges;
-  prism_clip_faces(prism);
+}
+
+void poly_mesh_prism_clip_faces(poly_mesh_prism *prism)
+{
+  if (prism->clip_state) return;
+  prism->clip_state = 1;
+  if (prism->view.face_of) prism_clip_faces(prism);
+  else prism_clip_tetrahedra(prism, prism->diagonals);
+}
+
+void poly_mesh_prism_prepare(poly_mesh_prism *prism, const poly_shape_view_d *particle)
+{
+  if (particle->clip.num_pieces > 1 && poly_clip_takes(&particle->clip)) poly_mesh_prism_clip_faces(prism);
 }
 
 int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3],
@@ -636,7 +756,7 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
   count = prism_add_triangle(prism->triangles, count, 3, 5, 4);
   for (int c = 0; c < 3; c++) {
     int a = c, b = (c + 1) % 3;
-    int diagonal = shell_side_diagonal(top, bottom, ids, c);
+    int diagonal = prism->diagonals[c] = shell_side_diagonal(top, bottom, ids, c);
     if (diagonal == 1) {
       count = prism_add_triangle(prism->triangles, count, b, a, b + 3);
       count = prism_add_triangle(prism->triangles, count, a, a + 3, b + 3);
@@ -693,7 +813,7 @@ void poly_mesh_prism_rebind(poly_mesh_prism *prism)
   prism->view.support = prism->support;
   prism->view.face_of = convex ? prism->face_of : NULL;
   prism->view.ridges = convex ? prism->ridges : NULL;
-  prism_bind_clip(prism, prism->view.clip.num_faces);
+  prism_bind_clip(prism, prism->clip_state ? prism->view.clip.num_faces : 0);
 }
 
 void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *nodes, const int *first_node,

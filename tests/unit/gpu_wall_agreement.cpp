@@ -154,6 +154,8 @@ int main(int argc, char **argv)
       usable[t] = poly_mesh_shell_prism(&shell, t, nodes, &prisms[t]) == 0;  // its view points into prisms[t]
     }
     poly_shape_view_d view_d = poly_shape_view_of(&shapes[s]);
+    for (int t = 0; t < shell.num_triangles; t++)
+      if (usable[t]) poly_mesh_prism_prepare(&prisms[t], &view_d);  // the host's clip faces, as the fix makes them
     poly_shape_view_f view_f;
     poly_shape_view_make_f(&shapes[s], &view_f);
 

@@ -1,5 +1,5 @@
-/* The mesh wall's narrow phase by the clipping path (convex prisms, poly_clip.h, with the corners kept for the
- * depth: ws.want_nodes) against the general path (ws.use_clip = 0), as fix wall/polyhedral combines them: each
+/* The mesh wall's narrow phase by the clipping path (prisms with clip faces: convex ones, and the others as three
+ * tetrahedra; poly_clip.h, with the corners kept for the depth: ws.want_nodes) against the general path (ws.use_clip = 0), as fix wall/polyhedral combines them: each
  * particle's pieces (one per prism whose bounding sphere touches the particle's) into one contact
  * (poly_mesh_contact_combine, from the pieces' nodes). tests/test_mesh_walls_clip.py runs it.
  *
@@ -8,7 +8,8 @@
  * The wall: a 10 x 10 height field of 5 bounding radii (random heights up to 0.6 radii: creases of both signs,
  * prisms convex and not), or with `flat` a plane, over which the particles rest as blocks in a pile (one in two at
  * a random turn about z, the rest in random orientations), their centres from 0.9 radii below to 0.6 above the
- * surface. Prints the pieces, the touching ones, those the clipping path gave and those it handed back, and the
+ * surface. Prints the pieces, the touching ones, the prisms with clip faces and those split into tetrahedra, the
+ * pieces offered to the clipping path and those it handed back, and the
  * contacts' worst differences: volume against max(V, 1e-3 V_p), centroid against the bounding radius, second
  * moment against V_p r^2, and for contacts above 1e-3 V_p normal and depth (against the radius) weighed by the
  * summed area vector's length over the area. */
@@ -104,12 +105,14 @@ int main(int argc, char **argv)
     return 1;
   }
   poly_mesh_prism *prisms = malloc(sizeof(poly_mesh_prism) * (size_t)num_triangles);
-  int *usable = malloc(sizeof(int) * (size_t)num_triangles), convex_prisms = 0;
+  int *usable = malloc(sizeof(int) * (size_t)num_triangles), clip_prisms = 0, split_prisms = 0;
   for (int t = 0; t < num_triangles; t++) {
     double nodes[3][3];
     memcpy(nodes, corners + 9 * t, sizeof nodes);
     usable[t] = poly_mesh_shell_prism(&shell, t, nodes, &prisms[t]) == 0;
-    convex_prisms += usable[t] && prisms[t].view.clip.num_faces > 0;
+    if (usable[t]) poly_mesh_prism_clip_faces(&prisms[t]);  /* for convex particles too (the fix leaves them) */
+    clip_prisms += usable[t] && prisms[t].view.clip.num_faces > 0;
+    split_prisms += usable[t] && prisms[t].view.clip.num_pieces == 3;
   }
 
   poly_overlap_workspace_d ws;
@@ -196,8 +199,8 @@ int main(int argc, char **argv)
       worst_depth = worst(worst_depth, weight * fabs(contact[0].depth - contact[1].depth) / radius);
     }
   }
-  printf("pieces %ld touching %ld convex_prisms %d of %d clip_offered %ld clip_handed_back %ld contacts %ld\n",
-         total_pieces, touching, convex_prisms, num_triangles, clip_offered, clip_handed_back, contacts);
+  printf("pieces %ld touching %ld clip_prisms %d of %d split_prisms %d clip_offered %ld clip_handed_back %ld contacts %ld\n",
+         total_pieces, touching, clip_prisms, num_triangles, split_prisms, clip_offered, clip_handed_back, contacts);
   printf("worst volume %.3g centroid %.3g normal %.3g depth %.3g second %.3g\n", worst_volume, worst_centroid,
          worst_normal, worst_depth, worst_second);
   for (int path = 0; path < 2; path++) {
