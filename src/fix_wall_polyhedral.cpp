@@ -294,6 +294,7 @@ void FixWallPolyhedral::init()
 // and ghost triangles do not always include.
 void FixWallPolyhedral::build_shells()
 {
+  forget_prisms();  // made from the shells that are being replaced
   for (size_t m = 0; m < meshes.size(); m++) {
     TriMesh *mesh = meshes[m]->triMesh();
     // Before the first run every rank still holds all triangles (LIGGGHTS distributes them at setup), after it

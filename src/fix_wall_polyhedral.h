@@ -20,7 +20,9 @@
 #ifndef LMP_FIX_WALL_POLYHEDRAL_H
 #define LMP_FIX_WALL_POLYHEDRAL_H
 
+#include <deque>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "fix.h"
@@ -106,9 +108,17 @@ class FixWallPolyhedral : public Fix {
   bool have_workspace;
   // A (particle, prism) pair whose bounding spheres touch, before its overlap is known.
   struct MeshCandidate {
-    int particle, triangle, prism;        // local atom, local triangle, index into `prisms`
+    int particle, triangle, prism;        // local atom, local triangle, slot in `prisms`
   };
-  std::vector<poly_mesh_prism> prisms;   // of the current mesh's triangles that have candidates
+  // Prisms kept from step to step, so that a mesh that does not move has each made once (with its clip faces):
+  // per (mesh, global triangle, side) a slot of `prisms` (a deque: a prism's view points into it, so it must not
+  // move), valid while the triangle's corners are the same to the bit (prism_slot).
+  std::deque<poly_mesh_prism> prisms;
+  std::vector<double> prism_corners;  // 9 per slot: the corners it was made from
+  std::vector<char> prism_made;       // per slot: 0 when the triangle has no prism (degenerate, folded)
+  std::unordered_map<long long, int> prism_slots;
+  int prism_slot(int m, int triangle_id, int side, const double nodes[3][3]);
+  void forget_prisms();
   std::vector<MeshCandidate> candidates;  // of all meshes, mesh by mesh
   std::vector<size_t> mesh_first_candidate;  // mesh m's are [mesh_first_candidate[m], mesh_first_candidate[m + 1])
   std::vector<poly_overlap_result> overlaps;         // per candidate

@@ -21,21 +21,50 @@
 
 using namespace LAMMPS_NS;
 
+// Kept prisms (about 1.8 kB each) past which they are all forgotten and made again as needed: about 30 MB a rank.
+static const size_t kMostKeptPrisms = 16384;
+
 // The (particle, prism) candidates of every mesh and their overlaps, in one batch (one GPU call per step).
 void FixWallPolyhedral::compute_mesh_overlaps()
 {
-  prisms.clear();
+  if (prisms.size() > kMostKeptPrisms) forget_prisms();
   candidates.clear();
   mesh_first_candidate.assign(meshes.size() + 1, 0);
   for (size_t m = 0; m < meshes.size(); m++) {
     gather_candidates((int)m);
     mesh_first_candidate[m + 1] = candidates.size();
   }
-  // The copies' views still point into the prism they were copied from.
-  for (size_t p = 0; p < prisms.size(); p++) {
-    poly_mesh_prism_rebind(&prisms[p]);
-  }
   compute_overlaps();
+}
+
+// The slot of the prism of (mesh m, global triangle, side) over corners `nodes` (canonical order): the kept one
+// when it was made from the same corners, else made again in its slot; -1 when the triangle has no prism.
+int FixWallPolyhedral::prism_slot(int m, int triangle_id, int side, const double nodes[3][3])
+{
+  const long long key = ((long long)m << 33) | ((long long)triangle_id << 1) | side;
+  std::unordered_map<long long, int>::const_iterator found = prism_slots.find(key);
+  int slot;
+  if (found != prism_slots.end()) {
+    slot = found->second;
+    if (memcmp(&prism_corners[9 * (size_t)slot], nodes, 9 * sizeof(double)) == 0) return prism_made[slot] ? slot : -1;
+  } else {
+    slot = (int)prisms.size();
+    prisms.push_back(poly_mesh_prism());
+    prism_corners.resize(9 * prisms.size());
+    prism_made.push_back(0);
+    prism_slots[key] = slot;
+  }
+  memcpy(&prism_corners[9 * (size_t)slot], nodes, 9 * sizeof(double));
+  prism_made[slot] = poly_mesh_shell_prism(side ? &back_shells[m] : &shells[m], triangle_id, nodes, &prisms[slot]) == 0;
+  return prism_made[slot] ? slot : -1;
+}
+
+void FixWallPolyhedral::forget_prisms()
+{
+  prisms.clear();
+  prism_corners.clear();
+  prism_made.clear();
+  prism_slots.clear();
 }
 
 static bool side_entry_order(const FixWallPolyhedral::SideEntry &a, const FixWallPolyhedral::SideEntry &b)
@@ -133,26 +162,22 @@ void FixWallPolyhedral::gather_candidates(int m)
     for (size_t e = first; e <= last; e++) decided[index[e]] = side;
     first = last + 1;
   }
-  // The candidates, with the prism of their side (each triangle's one or two prisms built once).
-  int current = -1, prism_index[2] = {-1, -1};
-  poly_mesh_prism prism[2];
-  int built[2] = {0, 0};
+  // The candidates, with the prism of their side (each triangle's one or two prisms looked up once).
+  int current = -1, slot[2] = {-1, -1};
   for (size_t e = 0; e < side_entries.size(); e++) {
     const SideEntry &entry = side_entries[e];
     const int i = entry.particle, j = entry.triangle, side = decided[e];
     if (j != current) {
       current = j;
-      prism_index[0] = prism_index[1] = -1;
-      built[0] = built[1] = 0;
+      slot[0] = slot[1] = -2;
     }
-    if (!built[side]) {
+    if (slot[side] == -2) {
       double nodes[3][3];
       canonical_nodes(mesh, j, orientation.flip[entry.triangle_id] ^ side, nodes);
-      built[side] = poly_mesh_shell_prism(side ? &back_shells[m] : &shells[m], entry.triangle_id, nodes,
-                                          &prism[side]) == 0 ? 1 : -1;
+      slot[side] = prism_slot(m, entry.triangle_id, side, nodes);
     }
-    if (built[side] < 0) continue;
-    const poly_mesh_prism &p = prism[side];
+    if (slot[side] < 0) continue;
+    const poly_mesh_prism &p = prisms[slot[side]];
     const double *top_normal = p.face_normals;
     double corner[3];
     mesh->node(j, 0, corner);
@@ -161,11 +186,7 @@ void FixWallPolyhedral::gather_candidates(int m)
     double to_prism[3] = {x[i][0] - p.origin[0], x[i][1] - p.origin[1], x[i][2] - p.origin[2]};
     double reach = radius[i] + p.view.bounding_radius;
     if (to_prism[0] * to_prism[0] + to_prism[1] * to_prism[1] + to_prism[2] * to_prism[2] >= reach * reach) continue;
-    if (prism_index[side] < 0) {
-      prism_index[side] = (int)prisms.size();
-      prisms.push_back(p);
-    }
-    MeshCandidate candidate = {i, j, prism_index[side]};
+    MeshCandidate candidate = {i, j, slot[side]};
     candidates.push_back(candidate);
   }
 }

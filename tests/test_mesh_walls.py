@@ -102,6 +102,24 @@ def test_conveyor_mesh_carries_the_cube_at_its_speed(run_deck, tmp_path):
     assert table["f_floor[1]"][1] < 0  # the belt is held back while it accelerates the cube
 
 
+def test_a_mesh_that_starts_moving_carries_the_cube(run_deck, tmp_path):
+    """The wall keeps each triangle's prism from step to step while the triangle's corners stay the same (a
+    static mesh's are made once). A floor at rest for 0.1 s, then lifted at 0.05 m/s (fix move/mesh added for
+    a second run): the kept prisms must give way to ones at the floor's new place, and the resting cube rises
+    with it by 5 mm in 0.1 s (it follows within 0.3 mm: its sinking changes little under the small pull-up)."""
+    meshes.write_stl(tmp_path / "floor.stl", meshes.grid(4, 0.25))
+    deck = scene(mesh_wall("../floor.stl"), f"0 0 {EDGE / 2}", steps=10000)
+    deck += "fix lift all move/mesh mesh floor_mesh linear 0 0 0.05\nrun 10000\n"
+    result = run_deck(deck, workdir=tmp_path / "run")
+    assert result.returncode == 0, result.output[-3000:]
+    table = result.thermo("Step", "v_z", "f_floor[4]")
+    rest, end = table["Step"].index(10000), len(table["Step"]) - 1
+    rise = table["v_z"][end] - table["v_z"][rest]
+    print(f"\nlifted floor: the cube rose {rise * 1e3:.4f} mm, the floor 5 mm")
+    assert abs(rise - 0.005) < 3e-4, rise
+    assert all(c == 1 for c in table["f_floor[4]"][rest:])
+
+
 def test_cube_stays_inside_a_shaken_closed_box(run_deck, tmp_path):
     """A closed box of 48 triangles (100 mm, normals inwards) shaken by fix move/mesh wiggle (10 mm
     at 50 Hz along x, 5 mm along z: up to 3 m/s) with the cube inside under gravity, 10^5 steps: the

@@ -15,7 +15,8 @@ Called by tools/bench_vs_multisphere.sh and tools/bench_tutorial_decks.sh:
       ... mass ... inertia_tensor ... use_density), so both piles have the same particles but for the shape.
       --quick: 15000 + 2500 steps, the pile still falling (a smoke check, about a minute).
 
-  bench_decks.py tutorial [--quick] [--steps S | --all] [movingMeshGran] [hopper]
+  bench_decks.py tutorial [--quick] [--steps S | --all] [--chute-steps C] [--chute-shape F]
+                          [movingMeshGran] [hopper] [chute_wear]
       movingMeshGran: LIGGGHTS' tutorial as Debian ships it (liggghts-doc), spheres as shipped against the same
         deck with its particle lines converted to rock_40 of the spheres' volume (convert_to_polyhedra: atom
         style, pair style, template, integrator, wall fixes, erotate compute, orientation random at insertion);
@@ -24,6 +25,9 @@ Called by tools/bench_vs_multisphere.sh and tools/bench_tutorial_decks.sh:
         68 min here today; --quick: 2000).
       hopper: examples/hopper/run.py (300 rock_40 of 2 cm against Hertz spheres of their volume; fill 4500
         steps, discharge 6000), one run after the other (--quick: fill 0.1 s, discharge 0.05 s).
+      chute_wear (only when named): LIGGGHTS' tutorial (a stream poured onto a static mesh chute with wear),
+        spheres as shipped against the deck converted by tools/convert_deck.py to --chute-shape (default
+        schoenhardt.stl) of the spheres' volume, cut after the first C steps (default 40000; --quick 4000).
 
 LIGGGHTS' own decks take a second or ten, so their loop times scatter most on a shared machine: they run
 --repeat times (3; --quick 1) and each stage counts with the median (the table gives min-max); the polyhedral
@@ -46,7 +50,8 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 
-POLY = ROOT / "build" / "bin" / "liggghts-poly"
+# BENCH_LAUNCHER=path: another build's launcher for the polyhedra (a before/after comparison).
+POLY = pathlib.Path(os.environ.get("BENCH_LAUNCHER", ROOT / "build" / "bin" / "liggghts-poly")).resolve()
 STOCK = shutil.which("liggghts") or str(POLY)
 EXAMPLE = ROOT / "examples" / "bench_multisphere"
 SHAPES = ROOT / "examples" / "shapes"
@@ -68,7 +73,7 @@ def print_header():
           f"{' '.join(f'{x:.2f}' for x in os.getloadavg())} at the start")
     version = shell("dpkg-query -W -f='${Version}' liggghts") or "unknown"
     print(f"LIGGGHTS: Debian {version} ({STOCK}); "
-          f"polyhedra: {POLY.relative_to(ROOT)}")
+          f"polyhedra: {POLY.relative_to(ROOT) if ROOT in POLY.parents else POLY}")
     commit = shell("git rev-parse --short HEAD") or "unknown"
     modified = shell("git status --porcelain -- " + " ".join(PACKAGE_SOURCES))
     last = shell("git log -1 --format=%h -- " + " ".join(PACKAGE_SOURCES))
@@ -394,25 +399,42 @@ def stage_table(deck, names, rocks, spheres, extra=None, target=None):
     cells += [f"{loop:.2f}, {us(t)}" for (loop, _), t in zip(totals, per)] + [f"**{per[0] / per[1]:.1f}**", ""]
     print("| " + " | ".join(cells) + " |")
     print()
-    print(f"ratio rocks / spheres, {deck}: {per[0] / per[1]:.1f}x per particle-step (target: at most {target})")
+    print(f"ratio rocks / spheres, {deck}: {per[0] / per[1]:.1f}x per particle-step" +
+          (f" (target: at most {target})" if target else ""))
     return per[0] / per[1]
 
 
 def bench_moving_mesh(a, workdir):
-    source = TUTORIALS / "movingMeshGran" / "in.movingMeshGran"
+    limit = 2000 if a.quick else (None if a.all else a.steps)
+    bench_tutorial_deck(a, workdir, "movingMeshGran", limit, "rock_40.obj",
+                        lambda spheres, here: convert_to_polyhedra(spheres, "rock_40.obj", SHAPES), target=5)
+
+
+def bench_chute(a, workdir):
+    def convert(spheres, here):
+        subprocess.run([sys.executable, str(ROOT / "tools" / "convert_deck.py"), "in.spheres", "in.rocks",
+                        "--shape", a.chute_shape, "--shapes-dir", str(SHAPES)], cwd=here, check=True,
+                       capture_output=True)
+        return (here / "in.rocks").read_text()
+    bench_tutorial_deck(a, workdir, "chute_wear", 4000 if a.quick else a.chute_steps, a.chute_shape, convert)
+
+
+def bench_tutorial_deck(a, workdir, deck, limit, shape, convert, target=None):
+    """A tutorial of liggghts-doc as shipped (spheres) against its particle lines converted to `shape`
+    (convert(sphere deck, directory) -> polyhedral deck), both cut after `limit` steps, without dumps."""
+    source = TUTORIALS / deck / f"in.{deck}"
     if not source.exists():
         raise SystemExit(f"{source} missing: install Debian's liggghts-doc (tools/debian_deps.sh)")
-    limit = 2000 if a.quick else (None if a.all else a.steps)
     spheres = cut_schedule(strip_dumps(source.read_text()), limit)
-    here = workdir / "movingMeshGran"
+    here = workdir / deck
     if here.exists():
         shutil.rmtree(here)
     shutil.copytree(source.parent / "meshes", here / "meshes")
     (here / "post").mkdir()
     (here / "in.spheres").write_text(spheres)
-    (here / "in.rocks").write_text(convert_to_polyhedra(spheres, "rock_40.obj", SHAPES))
-    print(f"movingMeshGran ({source}), {'the whole deck' if limit is None else f'its first {limit} steps'}: "
-          f"spheres as shipped against rock_40 of their volume (decks in {here}; `diff in.spheres in.rocks` shows "
+    (here / "in.rocks").write_text(convert(spheres, here))
+    print(f"{deck} ({source}), {'the whole deck' if limit is None else f'its first {limit} steps'}: "
+          f"spheres as shipped against {shape} of their volume (decks in {here}; `diff in.spheres in.rocks` shows "
           "the conversion)")
     sys.stdout.flush()
     runs = {}
@@ -428,10 +450,10 @@ def bench_moving_mesh(a, workdir):
     print()
     counts = runs["rocks"][-1]["atoms"], runs["spheres"][-1]["atoms"]
     if counts[0] != counts[1]:
-        print(f"insert/pack placed {counts[0]} rocks and {counts[1]} spheres in the same region (the rocks' overlap "
+        print(f"the insertion placed {counts[0]} rocks and {counts[1]} spheres in the same region (the rocks' overlap "
               "check and all_in go by the shape): the ratios are per particle-step")
         print()
-    stage_table("movingMeshGran", stage_names(spheres), runs["rocks"], runs["spheres"], target=5)
+    stage_table(deck, stage_names(spheres), runs["rocks"], runs["spheres"], target=target)
     print()
     sys.stdout.flush()
 
@@ -478,7 +500,9 @@ def main():
                         help="movingMeshGran and the hopper example, rocks against spheres")
     tu.add_argument("--steps", type=int, default=12000, help="movingMeshGran: the first STEPS steps (12000)")
     tu.add_argument("--all", action="store_true", help="movingMeshGran: the whole deck (70000 steps)")
-    tu.add_argument("decks", nargs="*", help="movingMeshGran, hopper (default both)")
+    tu.add_argument("--chute-steps", type=int, default=40000, help="chute_wear: the first STEPS steps (40000)")
+    tu.add_argument("--chute-shape", default="schoenhardt.stl", help="chute_wear: the particle mesh (schoenhardt.stl)")
+    tu.add_argument("decks", nargs="*", help="movingMeshGran, hopper, chute_wear (default the first two)")
     a = p.parse_args()
     if a.repeat is None:
         a.repeat = 1 if a.quick else 3
@@ -493,13 +517,15 @@ def main():
         bench_multisphere(a, workdir)
     else:
         a.decks = a.decks or ["movingMeshGran", "hopper"]
-        unknown = set(a.decks) - {"movingMeshGran", "hopper"}
+        unknown = set(a.decks) - {"movingMeshGran", "hopper", "chute_wear"}
         if unknown:
-            p.error(f"unknown deck: {' '.join(sorted(unknown))} (movingMeshGran, hopper)")
+            p.error(f"unknown deck: {' '.join(sorted(unknown))} (movingMeshGran, hopper, chute_wear)")
         if "movingMeshGran" in a.decks:
             bench_moving_mesh(a, workdir)
         if "hopper" in a.decks:
             bench_hopper(a, workdir)
+        if "chute_wear" in a.decks:
+            bench_chute(a, workdir)
     print_busy()
     print(f"benchmark: {time.time() - start:.0f} s wall")
 
