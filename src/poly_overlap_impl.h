@@ -219,8 +219,8 @@ POLY_INLINE void POLY_FN(to_double)(const R *a, double *out) { out[0] = a[0]; ou
 /* Do the boxes [low_a, high_a] and the stored triangle box (low xyz, high xyz) overlap? */
 POLY_INLINE int POLY_FN(boxes_overlap)(const R *low_a, const R *high_a, const R *box)
 {
-  return !(box[0] > high_a[0] || box[1] > high_a[1] || box[2] > high_a[2] || low_a[0] > box[3] ||
-           low_a[1] > box[4] || low_a[2] > box[5]);
+  return !((box[0] > high_a[0]) | (box[1] > high_a[1]) | (box[2] > high_a[2]) | (low_a[0] > box[3]) |
+           (low_a[1] > box[4]) | (low_a[2] > box[5]));
 }
 
 POLY_INLINE void POLY_FN(segment_bounds)(const R *p0, const R *p1, R *low, R *high)
