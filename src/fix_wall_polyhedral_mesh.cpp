@@ -320,16 +320,16 @@ void FixWallPolyhedral::compute_overlaps()
   for (size_t c = 0; c < count; c++) {
     int i = candidates[c].particle;
     poly_mesh_prism &prism = prisms[candidates[c].prism];
-    poly_mesh_prism_prepare(&prism, &pair->shape_view(shapetype[i]));
+    const poly_shape_view_d *prism_view = poly_mesh_prism_view(&prism, &pair->shape_view(shapetype[i]));
     poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
     poly_pose particle_pose = {{x[i][0], x[i][1], x[i][2]},
                                {quaternion[i][0], quaternion[i][1], quaternion[i][2], quaternion[i][3]}};
     workspace.want_second_moment = use_rocking;
     workspace.want_nodes = 1;  // the pieces' corners, for the contact's depth (poly_mesh_contact_combine)
-    poly_overlap_d(&pair->shape_view(shapetype[i]), &particle_pose, &prism.view, &prism_pose, &workspace,
+    poly_overlap_d(&pair->shape_view(shapetype[i]), &particle_pose, prism_view, &prism_pose, &workspace,
                    &overlaps[c]);
-    if (!(overlaps[c].volume > 0.0) || workspace.num_points > workspace.capacity_points) continue;
-    int n = workspace.num_points;
+    int n = poly_overlap_num_nodes_d(&workspace);
+    if (!(overlaps[c].volume > 0.0) || n < 0) continue;
     overlap_first_node[c] = (int)nodes.size() / 3;
     overlap_num_nodes[c] = n;
     if (n > 0) {

@@ -504,7 +504,8 @@ POLY_INLINE int poly_clip_pieces_overlap(const poly_clip_faces *a, const poly_cl
       }
     }
     if (pass == 0 && poly_clip_finish(acc, translation, out)) {
-      poly_clip_keep_corners(acc->nodes, acc->num_kept, acc->reference, corners);
+      const double none[3] = {0.0, 0.0, 0.0};  /* no corners: no reference either */
+      poly_clip_keep_corners(acc->nodes, acc->num_kept, acc->num_corners ? acc->reference : none, corners);
       return 1;
     }
   }

@@ -486,11 +486,12 @@ static int prism_add_triangle(int *triangles, int count, int a, int b, int c)
  * outwards, as over a flat or convex stretch of wall), its faces (coplanar triangles merged) and ridges, so
  * that a convex particle and it take the blocks path. Otherwise the general path (a side quad folded inwards
  * makes the prism non-convex). */
-/* Points view.clip at the prism's own clip arrays (faces found by prism_clip_faces or prism_clip_tetrahedra; their
- * counts in the prism), or at none. */
+/* clip_view: the view with its clip pointing at the prism's own clip arrays (faces found by prism_clip_faces or
+ * prism_clip_tetrahedra; their counts in the prism), or at none. */
 static void prism_bind_clip(poly_mesh_prism *prism, int num_faces)
 {
-  poly_clip_faces *clip = &prism->view.clip;
+  prism->clip_view = prism->view;
+  poly_clip_faces *clip = &prism->clip_view.clip;
   memset(clip, 0, sizeof *clip);
   if (num_faces == 0) return;
   clip->num_faces = num_faces;
@@ -649,6 +650,13 @@ static void prism_clip_tetrahedra(poly_mesh_prism *prism, const int diagonals[3]
   }
   prism->clip_piece_point_start[3] = 12;
   prism->clip_piece_face_start[3] = used_faces;
+  /* Each triangle's plane must be one its tetrahedron lies behind: a tetrahedron turned inside out (a split that
+   * the prism's certification passed by its star-shaped test instead) has its triangles' planes facing into it,
+   * and the three would overlap. Such a prism keeps the general path. */
+  for (int f = 0; f < 8; f++) {
+    const int p = face_piece[f], k = prism->clip_face_plane[f];
+    if (!((prism->clip_piece_front[p].low >> k) & 1ull) || ((prism->clip_piece_back[p].low >> k) & 1ull)) return;
+  }
   /* A plane supports the prism where one of its supporting triangles lies on it (the separation test). */
   for (int k = 0; k < prism->clip_num_planes; k++) {
     prism->clip_plane_support[k] = -1;
@@ -677,6 +685,7 @@ static void prism_faces(poly_mesh_prism *prism)
   prism->view.num_support = num_support;
   prism->view.face_of = prism->view.ridges = NULL;
   prism->view.num_ridges = 0;
+  memset(&prism->view.clip, 0, sizeof prism->view.clip);
   prism_bind_clip(prism, 0);
   prism->clip_state = 0;
   if (num_support < 8) return;
@@ -715,9 +724,11 @@ void poly_mesh_prism_clip_faces(poly_mesh_prism *prism)
   else prism_clip_tetrahedra(prism, prism->diagonals);
 }
 
-void poly_mesh_prism_prepare(poly_mesh_prism *prism, const poly_shape_view_d *particle)
+const poly_shape_view_d *poly_mesh_prism_view(poly_mesh_prism *prism, const poly_shape_view_d *particle)
 {
-  if (particle->clip.num_pieces > 1 && poly_clip_takes(&particle->clip)) poly_mesh_prism_clip_faces(prism);
+  if (!(particle->clip.num_pieces > 1 && poly_clip_takes(&particle->clip))) return &prism->view;
+  poly_mesh_prism_clip_faces(prism);
+  return prism->clip_view.clip.num_faces > 0 ? &prism->clip_view : &prism->view;
 }
 
 int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3],
@@ -813,7 +824,7 @@ void poly_mesh_prism_rebind(poly_mesh_prism *prism)
   prism->view.support = prism->support;
   prism->view.face_of = convex ? prism->face_of : NULL;
   prism->view.ridges = convex ? prism->ridges : NULL;
-  prism_bind_clip(prism, prism->clip_state ? prism->view.clip.num_faces : 0);
+  prism_bind_clip(prism, prism->clip_state ? prism->clip_view.clip.num_faces : 0);
 }
 
 void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *nodes, const int *first_node,

@@ -126,21 +126,23 @@ typedef struct poly_mesh_prism {
   int clip_num_planes, clip_num_pieces;
   int clip_state;    /* 1 once poly_mesh_prism_clip_faces has looked for them */
   int diagonals[3];  /* per side c, 1: its diagonal runs from top corner c to bottom corner c + 1; 2: the other */
-  poly_shape_view_d view;
+  poly_shape_view_d view;       /* without clip faces: the blocks or general path */
+  poly_shape_view_d clip_view;  /* the same with them, once made (clip.num_faces 0 until then, or without) */
 } poly_mesh_prism;
 
 /* Points a copied prism's view at the copy's own arrays (a view points into the prism it was made in). */
 void poly_mesh_prism_rebind(poly_mesh_prism *prism);
 
-/* The prism's faces for the clipping path (its view's clip; none for a prism whose side diagonals run in a
- * cycle), found once: not made with the prism, as they cost about a third as much again (0.2 us). */
+/* The prism's faces for the clipping path (into clip_view; none for a prism whose side diagonals run in a cycle
+ * or whose split is not three proper tetrahedra), found once: not made with the prism, as they cost about a
+ * third as much again (0.2 us). */
 void poly_mesh_prism_clip_faces(poly_mesh_prism *prism);
 
-/* What fix wall/polyhedral does before a particle's overlap with the prism: the clip faces when the particle is
- * in convex pieces (Schönhardt, rock_10; its clipping against the prism is 1.3-1.4x faster than the general
- * path). A convex particle keeps the blocks path against it, as fast as the clipping there (doc/benchmarks.md),
- * without making the clip faces. */
-void poly_mesh_prism_prepare(poly_mesh_prism *prism, const poly_shape_view_d *particle);
+/* The view of the prism that `particle` meets it by (fix wall/polyhedral): with clip faces (made the first time)
+ * when the particle is in convex pieces (Schönhardt, rock_10: their clipping against prisms is 1.3-1.4x faster
+ * than the general path), else without, whatever other particles made: a convex particle keeps the blocks path,
+ * as fast as the clipping there (doc/benchmarks.md), so its result does not depend on its neighbours. */
+const poly_shape_view_d *poly_mesh_prism_view(poly_mesh_prism *prism, const poly_shape_view_d *particle);
 
 /* The prism of global triangle `triangle` whose current corners are `nodes`
  * (world). Returns 0, or -1 for a degenerate triangle or a folded prism. */

@@ -154,7 +154,7 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
     }                                                                                                 \
     poly_clip_result clip;                                                                            \
     double *points = POINTS;                                                                          \
-    poly_clip_corners corners = {points, ws->capacity_points, 0, {0.0, 0.0, 0.0}};                    \
+    poly_clip_corners corners = {points, ws->capacity_corners, 0, {0.0, 0.0, 0.0}};                   \
     poly_clip_corners *keep = points && ws->want_nodes ? &corners : NULL;                             \
     if (!poly_clip_overlap(&a->clip, &b->clip, rotation, translation,                                 \
                            (double)a->bounding_radius + (double)b->bounding_radius, ws->want_second_moment, &clip, \
@@ -177,6 +177,7 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
       local_normal[k] = clip.normal[k];                                                               \
     }                                                                                                 \
     ws->num_points = keep ? corners.count : 0;                                                        \
+    ws->corners_kept = keep != NULL;                                                                  \
     for (int k = 0; k < 3; k++) ws->origin[k] = corners.origin[k];                                    \
     return 1;                                                                                         \
   }
@@ -201,6 +202,7 @@ static int overlap_by_clipping_f(const poly_shape_view_f *a, const poly_shape_vi
            local_normal[3] = {0, 0, 0};                                                               \
     poly_overlap_relative_pose(pose_a->position, pose_a->quaternion, pose_b->position, pose_b->quaternion, \
                                rotation_a, rotation, translation);                                    \
+    ws->corners_kept = 0;                                                                             \
     if (!overlap_by_clipping##SUFFIX(a, b, rotation, translation, ws, local_centroid, local_normal, result)) \
       poly_overlap_local##SUFFIX(a, b, rotation, translation, ws, local_centroid, local_normal, result); \
     poly_result_to_world(pose_a, rotation_a, local_centroid, local_normal, result);                   \
@@ -228,7 +230,7 @@ POLY_STILL_SEPARATED(_f)
   int poly_overlap_nodes##SUFFIX(const poly_overlap_workspace##SUFFIX *ws, const poly_pose *pose_a,   \
                                  double *nodes, int capacity)                                        \
   {                                                                                                   \
-    if (ws->num_points > ws->capacity_points) return -1;                                              \
+    if (ws->num_points > (ws->corners_kept ? ws->capacity_corners : ws->capacity_points)) return -1;  \
     double rotation[9];                                                                               \
     poly_quat_to_matrix(pose_a->quaternion, rotation);                                                \
     for (int p = 0; p < ws->num_points && p < capacity; p++) {                                        \

@@ -117,6 +117,8 @@ typedef struct poly_overlap_result {
     int clip_fallbacks;                /* pairs with clip faces it handed to the other paths (flush faces) */ \
     int want_nodes;                    /* 1: the clipping path (double) leaves its corners in `points` too, or hands the \
                                           pair on when they do not fit (the mesh walls' depth); 0 (default): none */ \
+    int capacity_corners;              /* room in `points` for those corners (>= capacity_points) */ \
+    int corners_kept;                  /* 1: the last overlap's points are those corners, all kept */ \
     int capacity_sides, convex_fallbacks; /* convex path: side table size; passes it left to the general path */ \
     REAL *sides;                       /* convex path: per vertex used, its plane_side for each face */ \
     int *faces_a, *faces_b, *face_column_a, *face_column_b; /* its faces, and their columns per face */ \
@@ -199,6 +201,12 @@ int poly_overlap_still_separated_f(const poly_shape_view_f *a, const poly_pose *
  * there are, or -1 when they did not fit in the workspace (then only the result's own depth is known). */
 int poly_overlap_nodes_d(const poly_overlap_workspace_d *ws, const poly_pose *pose_a, double *nodes, int capacity);
 int poly_overlap_nodes_f(const poly_overlap_workspace_f *ws, const poly_pose *pose_a, double *nodes, int capacity);
+
+/* How many nodes the last overlap left in ws (what poly_overlap_nodes returns), -1 when they did not fit. */
+static inline int poly_overlap_num_nodes_d(const poly_overlap_workspace_d *ws)
+{
+  return ws->num_points <= (ws->corners_kept ? ws->capacity_corners : ws->capacity_points) ? ws->num_points : -1;
+}
 
 #ifdef __cplusplus
 }

@@ -129,11 +129,12 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
    * POLY_OVERLAP_RECORDS): as many as nodes, each crossing being one, and more
    * take the reference path; runs: one per edge of both bodies (a closed mesh
    * has 3/2 as many edges as triangles); chord ends: two per record, bucketed
-   * by A's triangles. On the host, at least the clipping path's corners (POLY_CLIP_MAX_NODES), which it hands
-   * over here for the mesh walls' depth (want_nodes): a pair of small shapes clipped in pieces can have more than
-   * the formula's (Schoenhardt against a prism: 92). */
+   * by A's triangles. The nodes' array holds on the host at least the clipping path's corners
+   * (POLY_CLIP_MAX_NODES), which it hands over there for the mesh walls' depth (want_nodes; capacity_corners):
+   * a small shape clipped in pieces against a prism can have more (Schoenhardt: 92 nodes). The general path keeps
+   * to np, as on the GPU. */
   size_t np = 2 * nv + 2 * nt + 64;
-  if (POLY_OVERLAP_RECORDS && np < POLY_CLIP_MAX_NODES) np = POLY_CLIP_MAX_NODES;
+  size_t ncorners = POLY_OVERLAP_RECORDS && np < POLY_CLIP_MAX_NODES ? POLY_CLIP_MAX_NODES : np;
   size_t nr = POLY_OVERLAP_RECORDS ? np : 0, nruns = POLY_OVERLAP_RECORDS ? 3 * nt : 0;
   size_t nbuckets = POLY_OVERLAP_RECORDS ? nt : 0;
   /* The convex path's side table: rows of the vertices it clips, a column per face. */
@@ -141,7 +142,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   if (!POLY_OVERLAP_RECORDS) nsides = 0;
   size_t nfaces = POLY_OVERLAP_RECORDS ? nt : 0;
   size_t nrows = POLY_OVERLAP_RECORDS ? nv : 0;
-  size_t reals = 3 * nv + 3 * nv + 4 * nt + 4 * nt + 3 * nt + 6 * nt + 6 * nt + 3 * nt + 3 * nt + 2 * nt + 3 * np +
+  size_t reals = 3 * nv + 3 * nv + 4 * nt + 4 * nt + 3 * nt + 6 * nt + 6 * nt + 3 * nt + 3 * nt + 2 * nt + 3 * ncorners +
                  2 * nr + nsides;
   /* The grid of kept triangles: its cells' starts, its entries (a triangle in a few cells), and per
    * triangle a stamp and a slot for the candidates of an edge. */
@@ -161,7 +162,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->apex_a = r; r += 3 * nt;
   ws->apex_b = r; r += 3 * nt;
   ws->crossings = r; r += 2 * nt; /* parameters, then directions */
-  ws->points = r; r += 3 * np;
+  ws->points = r; r += 3 * ncorners;
   ws->record_lambda = r; r += nr;
   ws->record_entering = r; r += nr;
   ws->sides = r; r += nsides;
@@ -191,6 +192,8 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->capacity_vertices = (int)nv;
   ws->capacity_triangles = (int)nt;
   ws->capacity_points = (int)np;
+  ws->capacity_corners = (int)ncorners;
+  ws->corners_kept = 0;
   ws->capacity_records = (int)nr;
   ws->capacity_runs = (int)nruns;
   ws->use_records = POLY_OVERLAP_RECORDS;

@@ -158,10 +158,10 @@ int shim_mesh_wall(const void *a, const double *pose, const double *corners, int
     for (int c = 0; c < 9; c++) triangle[c / 3][c % 3] = corners[9 * t + c];
     poly_mesh_prism prism;
     if (poly_mesh_shell_prism(&shell, t, triangle, &prism) != 0) continue;
-    poly_mesh_prism_prepare(&prism, &((const shim_shape *)a)->view_d);
+    const poly_shape_view_d *prism_view = poly_mesh_prism_view(&prism, &((const shim_shape *)a)->view_d);
     poly_pose pb = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
     poly_overlap_result r;
-    poly_overlap_d(&((const shim_shape *)a)->view_d, &pa, &prism.view, &pb, &workspace_d, &r);
+    poly_overlap_d(&((const shim_shape *)a)->view_d, &pa, prism_view, &pb, &workspace_d, &r);
     if (!(r.volume > 0.0)) continue;
     while (used + workspace_d.num_points > capacity) {
       capacity *= 2;

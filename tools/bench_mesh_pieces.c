@@ -9,7 +9,7 @@
  * orientations over it, centres from 0.9 radii below to 0.6 above the surface; every prism whose bounding
  * sphere touches the particle's is a piece. Each piece is one poly_overlap_d call (particle, prism) with the
  * second moment on and, when they touch, its nodes read back (poly_overlap_nodes_d), as the wall computes it; the
- * prism's clip faces are made when its first piece needs them (poly_mesh_prism_prepare), once per prism and
+ * prism's clip faces are made when its first piece needs them (poly_mesh_prism_view), once per prism and
  * timing, as the wall makes them once per prism and step. Prints pieces, touching pieces, and pieces per second (median
  * of `repeats` timings of the whole set). */
 #define _POSIX_C_SOURCE 199309L
@@ -123,7 +123,7 @@ int main(int argc, char **argv)
     poly_overlap_workspace_create_d(&ws, max_vertices, max_triangles);
     ws.want_second_moment = 1;
     ws.want_nodes = 1;
-    double *nodes = malloc(sizeof(double) * 3 * (size_t)ws.capacity_points);
+    double *nodes = malloc(sizeof(double) * 3 * (size_t)ws.capacity_corners);
     poly_shape_view_d view = poly_shape_view_of(&shape);
     double *timings = malloc(sizeof(double) * (size_t)repeats);
     int touching = 0;
@@ -137,13 +137,13 @@ int main(int argc, char **argv)
       double start = now();
       for (int p = 0; p < num_pieces; p++) {
         poly_mesh_prism *prism = &prisms[piece_prism[p]];
-        poly_mesh_prism_prepare(prism, &view);
+        const poly_shape_view_d *prism_view = poly_mesh_prism_view(prism, &view);
         poly_pose prism_pose = {{prism->origin[0], prism->origin[1], prism->origin[2]}, {1.0, 0.0, 0.0, 0.0}};
         poly_overlap_result result;
-        poly_overlap_d(&view, &particle_poses[p], &prism->view, &prism_pose, &ws, &result);
+        poly_overlap_d(&view, &particle_poses[p], prism_view, &prism_pose, &ws, &result);
         if (result.volume > 0.0) {
           touching++;
-          poly_overlap_nodes_d(&ws, &particle_poses[p], nodes, ws.capacity_points);
+          poly_overlap_nodes_d(&ws, &particle_poses[p], nodes, ws.capacity_corners);
         }
       }
       timings[r] = now() - start;

@@ -131,8 +131,8 @@ int main(int argc, char **argv)
   poly_overlap_workspace_create_d(&ws_d, max_vertices, max_triangles);
   poly_overlap_workspace_create_f(&ws_f, max_vertices, max_triangles);
   ws_d.want_nodes = 1;  // as the wall asks: the clipping path's corners for the depth
-  std::vector<double> node_scratch(3 * (size_t)(ws_d.capacity_points > ws_f.capacity_points ? ws_d.capacity_points
-                                                                                               : ws_f.capacity_points));
+  std::vector<double> node_scratch(3 * (size_t)(ws_d.capacity_corners > ws_f.capacity_corners ? ws_d.capacity_corners
+                                                                                                 : ws_f.capacity_corners));
   const double tolerance = precision == POLY_PRECISION_DOUBLE ? 1e-10 : 1e-4;
   int failures = 0;
 
@@ -154,8 +154,6 @@ int main(int argc, char **argv)
       usable[t] = poly_mesh_shell_prism(&shell, t, nodes, &prisms[t]) == 0;  // its view points into prisms[t]
     }
     poly_shape_view_d view_d = poly_shape_view_of(&shapes[s]);
-    for (int t = 0; t < shell.num_triangles; t++)
-      if (usable[t]) poly_mesh_prism_prepare(&prisms[t], &view_d);  // the host's clip faces, as the fix makes them
     poly_shape_view_f view_f;
     poly_shape_view_make_f(&shapes[s], &view_f);
 
@@ -224,15 +222,16 @@ int main(int argc, char **argv)
       host_first.clear(); host_count.clear(); gpu_first.clear(); gpu_count.clear();
       bool one_sided = false;
       for (; p < num_pieces && piece_particle[p] == n; p++) {
-        const poly_mesh_prism &prism = prisms[piece_prism[p]];
+        poly_mesh_prism &prism = prisms[piece_prism[p]];
         poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
+        const poly_shape_view_d *prism_view = poly_mesh_prism_view(&prism, &view_d);  // as the fix chooses
         poly_overlap_result host;
         std::vector<double> &nodes = node_scratch;
         int num_nodes;
         clock_gettime(CLOCK_MONOTONIC, &start);
         if (precision == POLY_PRECISION_DOUBLE) {
-          poly_overlap_d(&view_d, &poses[n], &prism.view, &prism_pose, &ws_d, &host);
-          num_nodes = poly_overlap_nodes_d(&ws_d, &poses[n], &nodes[0], ws_d.capacity_points);
+          poly_overlap_d(&view_d, &poses[n], prism_view, &prism_pose, &ws_d, &host);
+          num_nodes = poly_overlap_nodes_d(&ws_d, &poses[n], &nodes[0], ws_d.capacity_corners);
         } else {
           float vertices[18], normals[24];
           for (int k = 0; k < 18; k++) vertices[k] = (float)prism.vertices[k];
@@ -247,7 +246,7 @@ int main(int argc, char **argv)
             poly_overlap_f(&view_f, &poses[n], &prism_f, &prism_pose, &ws_f, &host);
           else
             poly_overlap_m(&view_f, &poses[n], &prism_f, &prism_pose, &ws_f, &host);
-          num_nodes = poly_overlap_nodes_f(&ws_f, &poses[n], &nodes[0], ws_f.capacity_points);
+          num_nodes = poly_overlap_nodes_f(&ws_f, &poses[n], &nodes[0], ws_f.capacity_corners);
         }
         host_seconds += seconds_since(start);
         const poly_overlap_result &device = gpu[p].geometry;

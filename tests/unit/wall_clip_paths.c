@@ -4,6 +4,7 @@
  * (poly_mesh_contact_combine, from the pieces' nodes). tests/test_mesh_walls_clip.py runs it.
  *
  *   wall_clip_paths SHAPE_FILE COUNT [flat]
+ *   wall_clip_paths splits SEEDS
  *
  * The wall: a 10 x 10 height field of 5 bounding radii (random heights up to 0.6 radii: creases of both signs,
  * prisms convex and not), or with `flat` a plane, over which the particles rest as blocks in a pile (one in two at
@@ -81,12 +82,67 @@ static void random_quaternion(double *q)
 
 static double worst(double current, double difference) { return difference > current ? difference : current; }
 
+/* Six times the signed volume of the tetrahedron (a, b, c, d). */
+static double volume6(const double *a, const double *b, const double *c, const double *d)
+{
+  double u[3], v[3], w[3];
+  for (int k = 0; k < 3; k++) u[k] = b[k] - a[k], v[k] = c[k] - a[k], w[k] = d[k] - a[k];
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+/* `splits SEEDS`: steep height fields (cells of 1, heights up to 1, a shell 3 thick), every prism split into
+ * tetrahedra must be partitioned by them: the tetrahedra's volumes sum to the prism's (each counted unsigned, so
+ * one turned inside out shows). Prints the prisms, those split, and those whose split is not a partition. */
+static int check_splits(int seeds)
+{
+  long prisms_made = 0, split = 0, bad = 0;
+  char message[512];
+  for (int seed = 0; seed < seeds; seed++) {
+    for (int i = 0; i <= CELLS; i++)
+      for (int j = 0; j <= CELLS; j++) heights[i][j] = uniform();
+    int num_triangles;
+    double *corners = height_field(2.0, &num_triangles);  /* 5 x 2 / CELLS: cells of 1 */
+    poly_mesh_shell shell;
+    if (poly_mesh_shell_build(corners, num_triangles, 3.0, 1e-8, &shell, message, sizeof message) != 0) {
+      fprintf(stderr, "%s\n", message);
+      return 1;
+    }
+    for (int t = 0; t < num_triangles; t++) {
+      poly_mesh_prism prism;
+      double nodes[3][3];
+      memcpy(nodes, corners + 9 * t, sizeof nodes);
+      if (poly_mesh_shell_prism(&shell, t, nodes, &prism) != 0) continue;
+      prisms_made++;
+      poly_mesh_prism_clip_faces(&prism);
+      if (prism.clip_view.clip.num_pieces != 3) continue;
+      split++;
+      const double origin[3] = {0.0, 0.0, 0.0};
+      double whole = 0.0, parts = 0.0;
+      for (int f = 0; f < 8; f++) {
+        const int *tri = prism.triangles + 3 * f;
+        whole += volume6(origin, prism.vertices + 3 * tri[0], prism.vertices + 3 * tri[1], prism.vertices + 3 * tri[2]);
+      }
+      for (int p = 0; p < 3; p++) {
+        const int *c = prism.clip_piece_points + 4 * p;
+        parts += fabs(volume6(prism.vertices + 3 * c[0], prism.vertices + 3 * c[1], prism.vertices + 3 * c[2],
+                              prism.vertices + 3 * c[3]));
+      }
+      bad += fabs(parts - whole) > 1e-9 * fabs(whole);
+    }
+    poly_mesh_shell_free(&shell);
+    free(corners);
+  }
+  printf("prisms %ld split %ld not_partitions %ld\n", prisms_made, split, bad);
+  return 0;
+}
+
 int main(int argc, char **argv)
 {
   if (argc < 3) {
     fprintf(stderr, "usage: wall_clip_paths SHAPE_FILE COUNT [flat]\n");
     return 2;
   }
+  if (!strcmp(argv[1], "splits")) return check_splits(atoi(argv[2]));
   const int count = atoi(argv[2]), flat = argc > 3 && !strcmp(argv[3], "flat");
   poly_shape shape;
   char message[512];
@@ -111,8 +167,8 @@ int main(int argc, char **argv)
     memcpy(nodes, corners + 9 * t, sizeof nodes);
     usable[t] = poly_mesh_shell_prism(&shell, t, nodes, &prisms[t]) == 0;
     if (usable[t]) poly_mesh_prism_clip_faces(&prisms[t]);  /* for convex particles too (the fix leaves them) */
-    clip_prisms += usable[t] && prisms[t].view.clip.num_faces > 0;
-    split_prisms += usable[t] && prisms[t].view.clip.num_pieces == 3;
+    clip_prisms += usable[t] && prisms[t].clip_view.clip.num_faces > 0;
+    split_prisms += usable[t] && prisms[t].clip_view.clip.num_pieces == 3;
   }
 
   poly_overlap_workspace_d ws;
@@ -121,7 +177,7 @@ int main(int argc, char **argv)
   ws.want_second_moment = 1;
   ws.want_nodes = 1;
   const poly_shape_view_d view = poly_shape_view_of(&shape);
-  const int capacity = ws.capacity_points;
+  const int capacity = ws.capacity_corners;
   /* Per path: the pieces, and the nodes of each, laid end to end as the wall lays them. */
   poly_overlap_result *pieces[2];
   int *first_node[2], *num_nodes[2];
@@ -160,10 +216,12 @@ int main(int argc, char **argv)
         poly_pose prism_pose = {{prism->origin[0], prism->origin[1], prism->origin[2]}, {1.0, 0.0, 0.0, 0.0}};
         const int fallbacks = ws.clip_fallbacks;
         poly_overlap_result result;
-        poly_overlap_d(&view, &pose, &prism->view, &prism_pose, &ws, &result);
+        /* The path under test: the prism's clip faces (when it has them) for every particle. */
+        const poly_shape_view_d *prism_view = prism->clip_view.clip.num_faces > 0 ? &prism->clip_view : &prism->view;
+        poly_overlap_d(&view, &pose, prism_view, &prism_pose, &ws, &result);
         if (path == 0) {
           total_pieces++;
-          if (poly_clip_takes(&view.clip) && poly_clip_takes(&prism->view.clip)) {
+          if (poly_clip_takes(&view.clip) && poly_clip_takes(&prism_view->clip)) {
             clip_offered++;
             clip_handed_back += ws.clip_fallbacks > fallbacks;
           }
