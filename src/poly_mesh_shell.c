@@ -486,14 +486,13 @@ static int prism_add_triangle(int *triangles, int count, int a, int b, int c)
  * outwards, as over a flat or convex stretch of wall), its faces (coplanar triangles merged) and ridges, so
  * that a convex particle and it take the blocks path. Otherwise the general path (a side quad folded inwards
  * makes the prism non-convex). */
-/* clip_view: the view with its clip pointing at the prism's own clip arrays (faces found by prism_clip_faces or
- * prism_clip_tetrahedra; their counts in the prism), or at none. */
+/* clip_view: the view with its clip pointing at the prism's own clip arrays (num_faces faces found by
+ * prism_clip_faces or prism_clip_tetrahedra; their other counts in the prism). */
 static void prism_bind_clip(poly_mesh_prism *prism, int num_faces)
 {
   prism->clip_view = prism->view;
   poly_clip_faces *clip = &prism->clip_view.clip;
   memset(clip, 0, sizeof *clip);
-  if (num_faces == 0) return;
   clip->num_faces = num_faces;
   clip->num_planes = prism->clip_num_planes;
   clip->num_vertices = 6;
@@ -686,7 +685,7 @@ static void prism_faces(poly_mesh_prism *prism)
   prism->view.face_of = prism->view.ridges = NULL;
   prism->view.num_ridges = 0;
   memset(&prism->view.clip, 0, sizeof prism->view.clip);
-  prism_bind_clip(prism, 0);
+  memset(&prism->clip_view.clip, 0, sizeof prism->clip_view.clip);  /* until poly_mesh_prism_clip_faces */
   prism->clip_state = 0;
   if (num_support < 8) return;
   for (int t = 0; t < 8; t++) prism->face_of[t] = t;
@@ -811,20 +810,6 @@ int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const doub
   prism->view.bounding_radius = sqrt(radius2);
   prism_faces(prism);
   return 0;
-}
-
-void poly_mesh_prism_rebind(poly_mesh_prism *prism)
-{
-  int convex = prism->view.face_of != NULL;
-  prism->view.vertices = prism->vertices;
-  prism->view.face_normals = prism->face_normals;
-  prism->view.triangles = prism->triangles;
-  prism->view.edges = prism->edges;
-  prism->view.edge_triangles = prism->edge_triangles;
-  prism->view.support = prism->support;
-  prism->view.face_of = convex ? prism->face_of : NULL;
-  prism->view.ridges = convex ? prism->ridges : NULL;
-  prism_bind_clip(prism, prism->clip_state ? prism->clip_view.clip.num_faces : 0);
 }
 
 void poly_mesh_contact_combine(const poly_overlap_result *pieces, const double *nodes, const int *first_node,

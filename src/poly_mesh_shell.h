@@ -115,7 +115,7 @@ typedef struct poly_mesh_prism {
   int support[8];   /* the triangles whose planes have every corner behind them */
   int face_of[8];   /* when all 8 do (a convex prism): per triangle its face's lowest triangle */
   int ridges[12];   /* and the edges between two faces */
-  /* The prism's faces for the clipping path (poly_clip.h; view.clip.num_faces 0 when it has none): per face its
+  /* The prism's faces for the clipping path (poly_clip.h; clip_view.clip.num_faces 0 when it has none): per face its
    * plane, its corners in order, a triangle of it, and the convex pieces they bound: a convex prism is one piece
    * of its merged faces, one that is not the three tetrahedra of its split (faces its 8 triangles, planes theirs
    * and the two between the tetrahedra). */
@@ -126,12 +126,10 @@ typedef struct poly_mesh_prism {
   int clip_num_planes, clip_num_pieces;
   int clip_state;    /* 1 once poly_mesh_prism_clip_faces has looked for them */
   int diagonals[3];  /* per side c, 1: its diagonal runs from top corner c to bottom corner c + 1; 2: the other */
+  /* Both views point into the prism (use it where it was made: a copy's would point into the original). */
   poly_shape_view_d view;       /* without clip faces: the blocks or general path */
   poly_shape_view_d clip_view;  /* the same with them, once made (clip.num_faces 0 until then, or without) */
 } poly_mesh_prism;
-
-/* Points a copied prism's view at the copy's own arrays (a view points into the prism it was made in). */
-void poly_mesh_prism_rebind(poly_mesh_prism *prism);
 
 /* The prism's faces for the clipping path (into clip_view; none for a prism whose side diagonals run in a cycle
  * or whose split is not three proper tetrahedra), found once: not made with the prism, as they cost about a

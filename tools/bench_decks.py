@@ -412,9 +412,12 @@ def bench_moving_mesh(a, workdir):
 
 def bench_chute(a, workdir):
     def convert(spheres, here):
-        subprocess.run([sys.executable, str(ROOT / "tools" / "convert_deck.py"), "in.spheres", "in.rocks",
-                        "--shape", a.chute_shape, "--shapes-dir", str(SHAPES)], cwd=here, check=True,
-                       capture_output=True)
+        result = subprocess.run([sys.executable, str(ROOT / "tools" / "convert_deck.py"), "in.spheres", "in.rocks",
+                                 "--shape", a.chute_shape, "--shapes-dir", str(SHAPES)], cwd=here,
+                                capture_output=True, text=True)
+        if result.returncode != 0:
+            raise SystemExit(f"ERROR: chute_wear with --chute-shape {a.chute_shape}: tools/convert_deck.py said:\n"
+                             f"{(result.stdout + result.stderr).strip()}")
         return (here / "in.rocks").read_text()
     bench_tutorial_deck(a, workdir, "chute_wear", 4000 if a.quick else a.chute_steps, a.chute_shape, convert)
 
