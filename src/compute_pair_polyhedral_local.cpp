@@ -61,8 +61,8 @@ ComputePairPolyhedralLocal::ComputePairPolyhedralLocal(LAMMPS *lmp, int &iarg, i
   scalar_flag = 1;
   timeflag = 1;  // output schedules the steps; the pair style records contacts only then
   extscalar = 1;
-  vector_flag = 1;  // statistics of degenerate contacts, since pair_style
-  size_vector = 3;
+  vector_flag = 1;  // statistics of degenerate contacts and of the pair loop's evaluations, since pair_style
+  size_vector = 8;
   extvector = 1;
   vector = statistics;
   size_local_cols = kColumns;
@@ -132,14 +132,18 @@ double ComputePairPolyhedralLocal::compute_scalar()
 }
 
 // 1: contacts with flush faces (smoothed), 2: re-evaluated after an inconsistent
-// edge, 3: inconsistent even so; counted on every pair evaluation since the
-// pair style was defined, summed over ranks.
+// edge, 3: inconsistent even so; 4-8: the pair loop's neighbour pairs in reach,
+// skipped by their parting plane, and evaluated into a contact, apart by the
+// slab or a parting plane, apart after the whole path; since the pair style was
+// defined, summed over ranks.
 void ComputePairPolyhedralLocal::compute_vector()
 {
   invoked_vector = update->ntimestep;
   const poly_degenerate_counts &counts = pair->degenerate_counts();
-  double mine[3] = {counts.smoothed, counts.recomputed, counts.inconsistent};
-  MPI_Allreduce(mine, statistics, 3, MPI_DOUBLE, MPI_SUM, world);
+  const PairPolyhedralVolumetric::EvaluationCounts &loop = pair->evaluation_counts();
+  double mine[8] = {counts.smoothed, counts.recomputed, counts.inconsistent, loop.candidates, loop.hinted,
+                    loop.contacts, loop.parted, loop.near_misses};
+  MPI_Allreduce(mine, statistics, 8, MPI_DOUBLE, MPI_SUM, world);
 }
 
 double ComputePairPolyhedralLocal::memory_usage()

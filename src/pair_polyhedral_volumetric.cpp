@@ -40,6 +40,8 @@ PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
       fix_history(NULL), atom_ntypes(0)
 {
   degenerate.smoothed = degenerate.recomputed = degenerate.inconsistent = 0.0;
+  evaluations.candidates = evaluations.hinted = evaluations.contacts = evaluations.parted = 0.0;
+  evaluations.near_misses = 0.0;
   single_enable = 0;
   restartinfo = 1;
   no_virial_fdotr_compute = 1;
@@ -563,6 +565,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
         int si = atom->shapetype[i], sj = atom->shapetype[j];
         if (si <= 0 || sj <= 0 || si >= num_shapes || sj >= num_shapes)
           error->one(FLERR, "Pair polyhedral/volumetric: a particle has a shape without template");
+        evaluations.candidates++;
         if (hints[jj] < 0 || !still_separated(i, j, hints[jj])) {
           overlap(i, j, &geometry);
           hints[jj] = geometry.separating;
@@ -573,6 +576,11 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
           double volume_i = rmass[i] / density[i], volume_j = rmass[j] / density[j];
           double negligible = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
           in_contact = geometry.volume > negligible && geometry.depth > 0.0;
+          if (in_contact) evaluations.contacts++;
+          else if (geometry.filtered_out) evaluations.parted++;
+          else evaluations.near_misses++;
+        } else {
+          evaluations.hinted++;
         }
       }
       if (!in_contact) {

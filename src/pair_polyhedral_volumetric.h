@@ -51,6 +51,16 @@ class PairPolyhedralVolumetric : public Pair {
   // Contacts with flush faces, re-evaluated, still inconsistent, on this rank since the style was defined.
   const poly_degenerate_counts &degenerate_counts() const { return degenerate; }
 
+  // What the pair loop did with its neighbour pairs on this rank since the style was defined (compute
+  // pair/polyhedral/local's vector 4-8): pairs whose bounding spheres overlap; of them, those the plane that
+  // parted them at their last evaluation still parts (not evaluated); and the evaluations that found a contact,
+  // that the slab or a parting plane found apart before the whole path, and that found no contact after it (near
+  // misses, which cost about what a contact does).
+  struct EvaluationCounts {
+    double candidates, hinted, contacts, parted, near_misses;
+  };
+  const EvaluationCounts &evaluation_counts() const { return evaluations; }
+
   // LIGGGHTS' contact-model keywords of pair gran and fix wall/gran, as a converted deck keeps them (model,
   // cohesion, rolling_friction, surface; tangential no_history): accepted where they say what this law does
   // anyway, else an ERROR naming the alternative. Returns whether `key` was one of them.
@@ -91,6 +101,7 @@ class PairPolyhedralVolumetric : public Pair {
   bigint records_timestep;
   std::vector<PolyContactRecord> records;
   poly_degenerate_counts degenerate;
+  EvaluationCounts evaluations;
   bool warned_inconsistent;
   void count_degenerate(const poly_overlap_result &geometry);
 

@@ -422,6 +422,35 @@ def bench_chute(a, workdir):
     bench_tutorial_deck(a, workdir, "chute_wear", 4000 if a.quick else a.chute_steps, a.chute_shape, convert)
 
 
+# Appended to a converted deck after its schedule: the pair loop's evaluation statistics (compute
+# pair/polyhedral/local's vector 4-8) printed by one `run 0`, which the timed runs before it do not see.
+EVALUATIONS = """
+compute ev all pair/polyhedral/local
+thermo_style custom step atoms c_ev[4] c_ev[5] c_ev[6] c_ev[7] c_ev[8]
+thermo_modify format float %.10g
+run 0
+"""
+
+
+def evaluation_breakdown(log_text):
+    """The rocks' pair evaluations over the deck from EVALUATIONS' thermo line: a sentence, or None."""
+    lines = log_text.splitlines()
+    for k, line in enumerate(lines):
+        if "ev[4]" in line and line.split()[:1] == ["Step"] and k + 1 < len(lines):
+            try:
+                candidates, hinted, contacts, parted, misses = (float(w) for w in lines[k + 1].split()[2:7])
+            except ValueError:
+                return None
+            if candidates <= 0:
+                return None
+            share = lambda n: f"{100 * n / candidates:.1f} %"
+            return (f"the rocks' neighbour pairs in reach of each other, summed over the steps: {candidates:.4g}; "
+                    f"skipped by the plane that parted them before {share(hinted)}, evaluated into a contact "
+                    f"{share(contacts)}, found apart by the slab or a parting plane {share(parted)}, found apart "
+                    f"by the whole path (near misses) {share(misses)} (compute pair/polyhedral/local's vector)")
+    return None
+
+
 def bench_tutorial_deck(a, workdir, deck, limit, shape, convert, target=None):
     """A tutorial of liggghts-doc as shipped (spheres) against its particle lines converted to `shape`
     (convert(sphere deck, directory) -> polyhedral deck), both cut after `limit` steps, without dumps."""
@@ -435,7 +464,7 @@ def bench_tutorial_deck(a, workdir, deck, limit, shape, convert, target=None):
     shutil.copytree(source.parent / "meshes", here / "meshes")
     (here / "post").mkdir()
     (here / "in.spheres").write_text(spheres)
-    (here / "in.rocks").write_text(convert(spheres, here))
+    (here / "in.rocks").write_text(convert(spheres, here) + EVALUATIONS)
     print(f"{deck} ({source}), {'the whole deck' if limit is None else f'its first {limit} steps'}: "
           f"spheres as shipped against {shape} of their volume (decks in {here}; `diff in.spheres in.rocks` shows "
           "the conversion)")
@@ -457,6 +486,9 @@ def bench_tutorial_deck(a, workdir, deck, limit, shape, convert, target=None):
               "check and all_in go by the shape): the ratios are per particle-step")
         print()
     stage_table(deck, stage_names(spheres), runs["rocks"], runs["spheres"], target=target)
+    breakdown = evaluation_breakdown((here / "log.rocks").read_text(errors="replace"))
+    if breakdown:
+        print(breakdown)
     print()
     sys.stdout.flush()
 

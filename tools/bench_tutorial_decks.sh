@@ -13,7 +13,10 @@
 # most 10); the sphere decks run 3 times (--repeat N), their median counts. --quick: 2000 steps of
 # movingMeshGran and a 0.15 s hopper, about 20 s. chute_wear (only when named): the tutorial's stream onto a static
 # mesh chute, converted by tools/convert_deck.py to FILE (schoenhardt.stl) of the spheres' volume, the first C
-# steps (40000, about a minute). BENCH_LAUNCHER=path runs another build's liggghts-poly (before/after).
+# steps (40000, about a minute). For movingMeshGran and chute_wear also where the rocks' pair evaluations went
+# (compute pair/polyhedral/local's vector 4-8, printed by a `run 0` appended to the converted deck): skipped by
+# their parting plane, contacts, parted early, near misses. BENCH_LAUNCHER=path runs another build's
+# liggghts-poly (before/after).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 exec /usr/bin/python3 "$root/tools/bench_decks.py" tutorial "$@"

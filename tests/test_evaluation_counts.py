@@ -1,0 +1,45 @@
+"""compute pair/polyhedral/local's vector 4-8: what the pair loop did with its neighbour pairs (pairs in reach of
+each other; skipped by the plane that parted them before; evaluated into a contact; found apart by the slab or a
+parting plane; found apart after the whole path). Two cubes, tilted so that no faces are flush, approach, collide
+and part again, printed every step: the counts add up exactly, the contacts are the per-step contacts summed, and
+the parted pair is skipped by its plane on later steps."""
+import decks
+
+EDGE = 0.01
+MATERIALS = ("fix m1 all property/global youngsModulus peratomtype 5e6\n"
+             "fix m2 all property/global poissonsRatio peratomtype 0.3\n")
+
+
+def two_cubes_deck(nprocs_safe_box=0.05):
+    return (decks.header(boundary="f f f", lo=-nprocs_safe_box, hi=nprocs_safe_box) +
+            "neighbor 0.004 bin\nneigh_modify delay 0\n" + MATERIALS +
+            decks.template("cube", "cube.stl", scale=EDGE) +
+            "pair_style polyhedral/volumetric tangential off damping off\npair_coeff * *\n"
+            "create_polyhedron cube -0.0062 0 0 quat 0.99 0.1 0.05 0 vel 0.5 0 0\n"
+            "create_polyhedron cube 0.0062 0 0 quat 0.98 0 0.1 0.15 vel -0.5 0 0\n"
+            "fix integrate all nve/polyhedron\ncompute ev all pair/polyhedral/local\n"
+            "variable reach equal c_ev[4]\nvariable hinted equal c_ev[5]\nvariable touching equal c_ev[6]\n"
+            "variable parted equal c_ev[7]\nvariable missed equal c_ev[8]\n"
+            "thermo_style custom step c_ev v_reach v_hinted v_touching v_parted v_missed\n"
+            "thermo_modify format float %.15g\nthermo 1\ntimestep 1e-6\nrun 8000\n")
+
+
+def test_the_pair_loop_counts_add_up(run_deck):
+    result = run_deck(two_cubes_deck())
+    assert result.returncode == 0, result.output[-3000:]
+    table = result.thermo("Step", "c_ev", "v_reach", "v_hinted", "v_touching", "v_parted", "v_missed")
+    reach, hinted, touching, parted, missed = (table[c][-1] for c in
+                                               ("v_reach", "v_hinted", "v_touching", "v_parted", "v_missed"))
+    print(f"\ntwo cubes: in reach {reach:.0f}, skipped by their plane {hinted:.0f}, contacts {touching:.0f}, "
+          f"parted by the slab or a plane {parted:.0f}, near misses {missed:.0f}")
+    assert reach == hinted + touching + parted + missed
+    # One pair, one evaluation a step (the run's set-up evaluation is step 0's): the contacts are the steps
+    # whose evaluation found the pair touching.
+    assert touching == sum(table["c_ev"]) and touching > 100
+    assert reach <= len(table["Step"])
+    assert table["c_ev"][0] == 0 and table["c_ev"][-1] == 0  # apart before and after
+    # Apart in reach before the collision and after it: most of those steps the parting plane still parts them.
+    assert hinted > 0.5 * (reach - touching)
+    # The counts only grow.
+    for name in ("v_reach", "v_hinted", "v_touching", "v_parted", "v_missed"):
+        assert all(b >= a for a, b in zip(table[name], table[name][1:])), name
