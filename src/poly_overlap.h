@@ -126,6 +126,7 @@ typedef struct poly_overlap_result {
     int capacity_grid;                 /* entries of the grid of kept triangles (find_crossings) */    \
     int *grid_start, *grid_entries, *grid_stamps, *grid_candidates; /* cells; their triangles; per triangle */ \
     REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
+    REAL *along_a, *along_b;           /* per vertex its place along the slab's axis (host: records path) */ \
     REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \
     REAL *normals_b;                   /* B's unit normals in the local frame */                   \
     REAL *bounds_a, *bounds_b;         /* per kept triangle: low xyz, high xyz */                  \

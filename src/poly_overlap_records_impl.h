@@ -161,17 +161,18 @@ POLY_INLINE int POLY_FN(records_crossing_in_triangle)(const R *p0, const R *p1, 
 
 /* Records of the edges of `mine` in the slab crossing kept triangles of
  * `other`, sorted along each edge: one run (edge, first record, count) per edge
- * tested, appended to `runs`. Flush faces (a face of A and one of B in one
- * plane to within `tolerance`) are looked for where an edge lies within it of
- * a triangle's plane, over the edge's two triangles. Returns 0, or -1 when the
- * records do not fit the workspace. */
-POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R *my_vertices, const R *my_planes,
-                                        const R *my_bounds, const R *my_normals, int mine_is_b,
+ * tested (not those with both ends short of `slab_limit`, their vertices'
+ * places along the axis being `my_along`), appended to `runs`. Flush faces (a
+ * face of A and one of B in one plane to within `tolerance`) are looked for
+ * where an edge lies within it of a triangle's plane, over the edge's two
+ * triangles. Returns 0, or -1 when the records do not fit the workspace. */
+POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R *my_vertices, const R *my_along,
+                                        const R *my_planes, const R *my_bounds, const R *my_normals, int mine_is_b,
                                         const POLY_FN(shape_view) *other, const R *other_vertices,
                                         const R *other_planes, const R *other_bounds, const R *other_normals,
-                                        const int *other_kept_list, int other_num_kept, const R *axis,
-                                        R slab_limit, R tolerance, POLY_FN(overlap_workspace) *ws,
-                                        int *num_records, int *runs, int *num_runs, int *flush)
+                                        const int *other_kept_list, int other_num_kept, R slab_limit, R tolerance,
+                                        POLY_FN(overlap_workspace) *ws, int *num_records, int *runs, int *num_runs,
+                                        int *flush)
 {
   POLY_FN(grid) grid;
   int gridded = other_num_kept >= POLY_GRID_MIN_KEPT &&
@@ -179,8 +180,8 @@ POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R
   for (int e = 0; e < mine->num_edges; e++) {
     int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
     const R *p0 = my_vertices + 3 * v0, *p1 = my_vertices + 3 * v1;
-    R d0 = POLY_FN(dot)(p0, axis), d1 = POLY_FN(dot)(p1, axis);
-    /* The other body lies beyond slab_limit along +axis for A, below it for B. */
+    R d0 = my_along[v0], d1 = my_along[v1];
+    /* The other body lies beyond slab_limit along +axis (my_along) for A, below it for B. */
     if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) continue;
     int first = *num_records, count = 0;
     R low[3], high[3];
@@ -251,8 +252,8 @@ POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R
  * the runs' edges, or by point_inside's ray where no run reaches a settled
  * vertex. Then counts the runs whose parity disagrees with their ends' states
  * (rounding; 0 normally) and adds the inside vertices as nodes. */
-POLY_INLINE void POLY_FN(settle_inside)(const POLY_FN(shape_view) *mine, const R *my_vertices, int mine_is_b,
-                                        const R *axis, R slab_limit, const R *other_low, const R *other_high,
+POLY_INLINE void POLY_FN(settle_inside)(const POLY_FN(shape_view) *mine, const R *my_vertices, const R *my_along,
+                                        int mine_is_b, R slab_limit, const R *other_low, const R *other_high,
                                         const int *runs, int num_runs, const R *ray, R ray_length,
                                         const POLY_FN(shape_view) *other, const R *other_vertices,
                                         const R *other_planes, const R *other_bounds, const int *other_kept_list,
@@ -263,7 +264,7 @@ POLY_INLINE void POLY_FN(settle_inside)(const POLY_FN(shape_view) *mine, const R
   int num_unknown = 0;
   for (int i = 0; i < mine->num_vertices; i++) {
     const R *x = my_vertices + 3 * i;
-    R along = POLY_FN(dot)(x, axis);
+    R along = my_along[i];
     int candidate = !mine_is_b ? along >= slab_limit : along <= slab_limit;
     for (int k = 0; k < 3 && candidate; k++) candidate = x[k] >= other_low[k] && x[k] <= other_high[k];
     inside[i] = candidate ? unknown : 0;
@@ -458,22 +459,22 @@ POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va,
   if (a->num_edges + b->num_edges > ws->capacity_runs) return -1;
   int num_records = 0, num_runs_a = 0, num_runs_b = 0, flush = 0;
   int *runs_a = ws->runs;
-  if (POLY_FN(find_crossings)(a, va, ws->planes_a, ws->bounds_a, a->face_normals, 0, b, vb, ws->planes_b, ws->bounds_b,
-                              ws->normals_b, ws->kept_list_b, f->num_kept_b, f->axis, f->limit_a, f->tolerance, ws,
-                              &num_records, runs_a, &num_runs_a, &flush))
+  if (POLY_FN(find_crossings)(a, va, ws->along_a, ws->planes_a, ws->bounds_a, a->face_normals, 0, b, vb,
+                              ws->planes_b, ws->bounds_b, ws->normals_b, ws->kept_list_b, f->num_kept_b,
+                              f->limit_a, f->tolerance, ws, &num_records, runs_a, &num_runs_a, &flush))
     return -1;
   int records_b = num_records, *runs_b = runs_a + 3 * num_runs_a;
-  if (POLY_FN(find_crossings)(b, vb, ws->planes_b, ws->bounds_b, ws->normals_b, 1, a, va, ws->planes_a, ws->bounds_a,
-                              a->face_normals, ws->kept_list_a, f->num_kept_a, f->axis, f->limit_b, f->tolerance, ws,
-                              &num_records, runs_b, &num_runs_b, &flush))
+  if (POLY_FN(find_crossings)(b, vb, ws->along_b, ws->planes_b, ws->bounds_b, ws->normals_b, 1, a, va,
+                              ws->planes_a, ws->bounds_a, a->face_normals, ws->kept_list_a, f->num_kept_a,
+                              f->limit_b, f->tolerance, ws, &num_records, runs_b, &num_runs_b, &flush))
     return -1;
   int num_points = 0, inconsistent = 0;
-  POLY_FN(settle_inside)(a, va, 0, f->axis, f->limit_a, f->box_b_low, f->box_b_high, runs_a, num_runs_a, f->ray_a,
-                         f->ray_length, b, vb, ws->planes_b, ws->bounds_b, ws->kept_list_b, f->num_kept_b, ws->inside_a,
-                         ws, &num_points, &inconsistent);
-  POLY_FN(settle_inside)(b, vb, 1, f->axis, f->limit_b, f->box_a_low, f->box_a_high, runs_b, num_runs_b, f->ray_b,
-                         f->ray_length, a, va, ws->planes_a, ws->bounds_a, ws->kept_list_a, f->num_kept_a, ws->inside_b,
-                         ws, &num_points, &inconsistent);
+  POLY_FN(settle_inside)(a, va, ws->along_a, 0, f->limit_a, f->box_b_low, f->box_b_high, runs_a, num_runs_a,
+                         f->ray_a, f->ray_length, b, vb, ws->planes_b, ws->bounds_b, ws->kept_list_b, f->num_kept_b,
+                         ws->inside_a, ws, &num_points, &inconsistent);
+  POLY_FN(settle_inside)(b, vb, ws->along_b, 1, f->limit_b, f->box_a_low, f->box_a_high, runs_b, num_runs_b,
+                         f->ray_b, f->ray_length, a, va, ws->planes_a, ws->bounds_a, ws->kept_list_a, f->num_kept_a,
+                         ws->inside_b, ws, &num_points, &inconsistent);
   POLY_FN(accumulator) acc = out->acc;
   POLY_FN(run_inside_parts)(a, va, ws->inside_a, runs_a, num_runs_a, a->face_normals, ws->apex_a, 0, NULL, ws, &acc,
                             &num_points);
