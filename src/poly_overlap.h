@@ -125,6 +125,7 @@ typedef struct poly_overlap_result {
     int *row_of_a, *row_of_b;          /* per vertex: its row of the side table, -1 before it is made */ \
     int capacity_grid;                 /* entries of the grid of kept triangles (find_crossings) */    \
     int *grid_start, *grid_entries, *grid_stamps, *grid_candidates; /* cells; their triangles; per triangle */ \
+    int *box_passing;                  /* find_crossings: an edge's candidates whose box meets its own */ \
     REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
     REAL *along_a, *along_b;           /* per vertex its place along the slab's axis (host: records path) */ \
     REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \

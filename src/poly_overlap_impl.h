@@ -149,7 +149,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
    * triangle a stamp and a slot for the candidates of an edge. */
   size_t ncells = POLY_OVERLAP_RECORDS ? 16 * 16 * 16 + 1 : 0, nentries = POLY_OVERLAP_RECORDS ? 8 * nt + 64 : 0;
   size_t ngrid = POLY_OVERLAP_RECORDS ? nt : 0;
-  size_t ints = 2 * nt + 2 * nr + 3 * nruns + nbuckets + 4 * nr + 4 * nfaces + 2 * nrows + ncells + nentries + 2 * ngrid;
+  size_t ints = 2 * nt + 2 * nr + 3 * nruns + nbuckets + 4 * nr + 4 * nfaces + 2 * nrows + ncells + nentries + 3 * ngrid;
   size_t bytes = sizeof(R) * reals + sizeof(int) * ints + 2 * nt + 2 * nv;
   if (!ws || !memory) return bytes;
   R *r = (R *)memory;
@@ -187,6 +187,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->grid_entries = n; n += nentries;
   ws->grid_stamps = n; n += ngrid;
   ws->grid_candidates = n; n += ngrid;
+  ws->box_passing = n; n += ngrid;
   unsigned char *c = (unsigned char *)n;
   ws->kept_a = c; c += nt;
   ws->kept_b = c; c += nt;
