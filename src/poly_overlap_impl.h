@@ -658,6 +658,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
 #else
 #define POLY_ALONG(body, vertices, v) POLY_FN(dot)(vertices + 3 * (v), axis)
 #endif
+  /* Which triangles are kept, without a branch per triangle (whether one reaches the slab is unpredictable),
+   * then the kept ones prepared in their order. */
   for (int t = 0; t < a->num_triangles; t++) {
     const int *tri = a->triangles + 3 * t;
     R high = -(R)1e30;
@@ -665,12 +667,16 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
       R along = POLY_ALONG(a, va, tri[k]);
       if (along > high) high = along;
     }
-    ws->kept_a[t] = high >= limit_a;
+    const int kept = high >= limit_a;
+    ws->kept_a[t] = (unsigned char)kept;
     ws->apex_a[3 * t] = POLY_NO_APEX;
-    if (!ws->kept_a[t]) continue;
-    ws->kept_list_a[num_kept_a++] = t;
-    POLY_FN(prepare_kept_triangle)(va, tri, tolerance, ws->planes_a + 4 * t, ws->bounds_a + 6 * t, box_a_low,
-                                   box_a_high);
+    ws->kept_list_a[num_kept_a] = t;
+    num_kept_a += kept;
+  }
+  for (int n = 0; n < num_kept_a; n++) {
+    const int t = ws->kept_list_a[n];
+    POLY_FN(prepare_kept_triangle)(va, a->triangles + 3 * t, tolerance, ws->planes_a + 4 * t, ws->bounds_a + 6 * t,
+                                   box_a_low, box_a_high);
   }
   for (int s = 0; s < b->num_triangles; s++) {
     const int *tri = b->triangles + 3 * s;
@@ -679,15 +685,20 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
       R along = POLY_ALONG(b, vb, tri[k]);
       if (along < low) low = along;
     }
-    ws->kept_b[s] = low <= limit_b;
+    const int kept = low <= limit_b;
+    ws->kept_b[s] = (unsigned char)kept;
     ws->apex_b[3 * s] = POLY_NO_APEX;
-    if (!ws->kept_b[s]) continue;
-    ws->kept_list_b[num_kept_b++] = s;
-    POLY_FN(prepare_kept_triangle)(vb, tri, tolerance, ws->planes_b + 4 * s, ws->bounds_b + 6 * s, box_b_low,
-                                   box_b_high);
-    const R *n = b->face_normals + 3 * s;
+    ws->kept_list_b[num_kept_b] = s;
+    num_kept_b += kept;
+  }
+  for (int n = 0; n < num_kept_b; n++) {
+    const int s = ws->kept_list_b[n];
+    POLY_FN(prepare_kept_triangle)(vb, b->triangles + 3 * s, tolerance, ws->planes_b + 4 * s, ws->bounds_b + 6 * s,
+                                   box_b_low, box_b_high);
+    const R *normal = b->face_normals + 3 * s;
     for (int k = 0; k < 3; k++)
-      ws->normals_b[3 * s + k] = (R)(rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2]);
+      ws->normals_b[3 * s + k] =
+          (R)(rotation[3 * k] * normal[0] + rotation[3 * k + 1] * normal[1] + rotation[3 * k + 2] * normal[2]);
   }
 #undef POLY_ALONG
   if (!num_kept_a || !num_kept_b) {
