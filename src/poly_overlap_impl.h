@@ -418,6 +418,30 @@ POLY_INLINE void POLY_FN(triangle_bounds)(const R *vertices, const int *tri, R *
  * only cull, so a grown box is safe; grown by the flush tolerance, the pair
  * loop's one box test also finds flush faces a hair apart), and the body's box
  * of kept triangles grown to hold it. */
+/* The triangles of `body` that reach into the slab (A's: a corner at or beyond `limit` along the axis; B's,
+ * `below`: a corner at or below it), into `kept_list` in order without a branch per triangle (whether one reaches
+ * it is unpredictable), `kept` set per triangle and their apexes reset. `along`: the vertices' places along the
+ * axis, or NULL to project `vertices` on `axis`. Returns how many are kept. */
+POLY_INLINE int POLY_FN(keep_in_slab)(const POLY_FN(shape_view) *body, const R *vertices, const R *along,
+                                      const R *axis, R limit, int below, unsigned char *kept, R *apex, int *kept_list)
+{
+  int count = 0;
+  for (int t = 0; t < body->num_triangles; t++) {
+    const int *tri = body->triangles + 3 * t;
+    R reach = below ? (R)1e30 : -(R)1e30;
+    for (int k = 0; k < 3; k++) {
+      R x = along ? along[tri[k]] : POLY_FN(dot)(vertices + 3 * tri[k], axis);
+      if (below ? x < reach : x > reach) reach = x;
+    }
+    const int in = below ? reach <= limit : reach >= limit;
+    kept[t] = (unsigned char)in;
+    apex[3 * t] = POLY_NO_APEX;
+    kept_list[count] = t;
+    count += in;
+  }
+  return count;
+}
+
 POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tri, R grow, R *plane, R *bounds,
                                                 R *box_low, R *box_high)
 {
@@ -648,48 +672,21 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   R box_a_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_a_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
   R box_b_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_b_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
   int num_kept_a = 0, num_kept_b = 0;
+  const R *along_a = NULL, *along_b = NULL;
 #if POLY_OVERLAP_RECORDS
   /* Each vertex's place along the axis once, for the filter, the crossings' slab and the inside states (a vertex
    * is in about six edges and six triangles: rock_1000's pairs spent a tenth of their time on these products). */
-  R *along_a = ws->along_a, *along_b = ws->along_b;
-  for (int i = 0; i < a->num_vertices; i++) along_a[i] = POLY_FN(dot)(va + 3 * i, axis);
-  for (int j = 0; j < b->num_vertices; j++) along_b[j] = POLY_FN(dot)(vb + 3 * j, axis);
-#define POLY_ALONG(body, vertices, v) along_##body[v]
-#else
-#define POLY_ALONG(body, vertices, v) POLY_FN(dot)(vertices + 3 * (v), axis)
+  for (int i = 0; i < a->num_vertices; i++) ws->along_a[i] = POLY_FN(dot)(va + 3 * i, axis);
+  for (int j = 0; j < b->num_vertices; j++) ws->along_b[j] = POLY_FN(dot)(vb + 3 * j, axis);
+  along_a = ws->along_a;
+  along_b = ws->along_b;
 #endif
-  /* Which triangles are kept, without a branch per triangle (whether one reaches the slab is unpredictable),
-   * then the kept ones prepared in their order. */
-  for (int t = 0; t < a->num_triangles; t++) {
-    const int *tri = a->triangles + 3 * t;
-    R high = -(R)1e30;
-    for (int k = 0; k < 3; k++) {
-      R along = POLY_ALONG(a, va, tri[k]);
-      if (along > high) high = along;
-    }
-    const int kept = high >= limit_a;
-    ws->kept_a[t] = (unsigned char)kept;
-    ws->apex_a[3 * t] = POLY_NO_APEX;
-    ws->kept_list_a[num_kept_a] = t;
-    num_kept_a += kept;
-  }
+  num_kept_a = POLY_FN(keep_in_slab)(a, va, along_a, axis, limit_a, 0, ws->kept_a, ws->apex_a, ws->kept_list_a);
+  num_kept_b = POLY_FN(keep_in_slab)(b, vb, along_b, axis, limit_b, 1, ws->kept_b, ws->apex_b, ws->kept_list_b);
   for (int n = 0; n < num_kept_a; n++) {
     const int t = ws->kept_list_a[n];
     POLY_FN(prepare_kept_triangle)(va, a->triangles + 3 * t, tolerance, ws->planes_a + 4 * t, ws->bounds_a + 6 * t,
                                    box_a_low, box_a_high);
-  }
-  for (int s = 0; s < b->num_triangles; s++) {
-    const int *tri = b->triangles + 3 * s;
-    R low = (R)1e30;
-    for (int k = 0; k < 3; k++) {
-      R along = POLY_ALONG(b, vb, tri[k]);
-      if (along < low) low = along;
-    }
-    const int kept = low <= limit_b;
-    ws->kept_b[s] = (unsigned char)kept;
-    ws->apex_b[3 * s] = POLY_NO_APEX;
-    ws->kept_list_b[num_kept_b] = s;
-    num_kept_b += kept;
   }
   for (int n = 0; n < num_kept_b; n++) {
     const int s = ws->kept_list_b[n];
@@ -700,7 +697,6 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
       ws->normals_b[3 * s + k] =
           (R)(rotation[3 * k] * normal[0] + rotation[3 * k + 1] * normal[1] + rotation[3 * k + 2] * normal[2]);
   }
-#undef POLY_ALONG
   if (!num_kept_a || !num_kept_b) {
     out->filtered_out = 1;
     ws->capacity_points = capacity_points;
