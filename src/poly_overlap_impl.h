@@ -408,16 +408,14 @@ POLY_INLINE void POLY_FN(triangle_bounds)(const R *vertices, const int *tri, R *
 {
   for (int k = 0; k < 3; k++) {
     R x = vertices[3 * tri[0] + k], y = vertices[3 * tri[1] + k], z = vertices[3 * tri[2] + k];
-    low[k] = x < y ? (x < z ? x : z) : (y < z ? y : z);
-    high[k] = x > y ? (x > z ? x : z) : (y > z ? y : z);
+    /* The same selections as x < y ? (x < z ? x : z) : (y < z ? y : z), in a form the compiler makes min/max
+     * instructions of rather than branches. */
+    R lower = x < y ? x : y, higher = x > y ? x : y;
+    low[k] = lower < z ? lower : z;
+    high[k] = higher > z ? higher : z;
   }
 }
 
-/* For a triangle that survives the filter: its plane for the predicates
- * ((v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1), its box grown by `grow` (boxes
- * only cull, so a grown box is safe; grown by the flush tolerance, the pair
- * loop's one box test also finds flush faces a hair apart), and the body's box
- * of kept triangles grown to hold it. */
 /* The triangles of `body` that reach into the slab (A's: a corner at or beyond `limit` along the axis; B's,
  * `below`: a corner at or below it), into `kept_list` in order without a branch per triangle (whether one reaches
  * it is unpredictable), `kept` set per triangle and their apexes reset. `along`: the vertices' places along the
@@ -442,6 +440,11 @@ POLY_INLINE int POLY_FN(keep_in_slab)(const POLY_FN(shape_view) *body, const R *
   return count;
 }
 
+/* For a triangle that survives the filter: its plane for the predicates
+ * ((v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1), its box grown by `grow` (boxes
+ * only cull, so a grown box is safe; grown by the flush tolerance, the pair
+ * loop's one box test also finds flush faces a hair apart), and the body's box
+ * of kept triangles grown to hold it. */
 POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tri, R grow, R *plane, R *bounds,
                                                 R *box_low, R *box_high)
 {
