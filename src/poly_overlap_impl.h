@@ -674,7 +674,6 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   /* Half-space filter (eq. 5.5) and bounding boxes of what survives. */
   R box_a_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_a_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
   R box_b_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_b_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
-  int num_kept_a = 0, num_kept_b = 0;
   const R *along_a = NULL, *along_b = NULL;
 #if POLY_OVERLAP_RECORDS
   /* Each vertex's place along the axis once, for the filter, the crossings' slab and the inside states (a vertex
@@ -684,8 +683,10 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   along_a = ws->along_a;
   along_b = ws->along_b;
 #endif
-  num_kept_a = POLY_FN(keep_in_slab)(a, va, along_a, axis, limit_a, 0, ws->kept_a, ws->apex_a, ws->kept_list_a);
-  num_kept_b = POLY_FN(keep_in_slab)(b, vb, along_b, axis, limit_b, 1, ws->kept_b, ws->apex_b, ws->kept_list_b);
+  const int num_kept_a = POLY_FN(keep_in_slab)(a, va, along_a, axis, limit_a, 0, ws->kept_a, ws->apex_a,
+                                               ws->kept_list_a);
+  const int num_kept_b = POLY_FN(keep_in_slab)(b, vb, along_b, axis, limit_b, 1, ws->kept_b, ws->apex_b,
+                                               ws->kept_list_b);
   for (int n = 0; n < num_kept_a; n++) {
     const int t = ws->kept_list_a[n];
     POLY_FN(prepare_kept_triangle)(va, a->triangles + 3 * t, tolerance, ws->planes_a + 4 * t, ws->bounds_a + 6 * t,

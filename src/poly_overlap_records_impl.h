@@ -507,12 +507,11 @@ POLY_INLINE double POLY_FN(support_reach)(const POLY_FN(shape_view) *a, const PO
 
 /* Does the `of_b`-th body's supporting triangle number m (of its support
  * list) part the bodies: the other body wholly in front of its plane by more
- * than `reach`? 1: yes; 0: no; -1: skipped, its normal being less than
- * `facing` along the centre line `axis` towards the other body. `start`: a
- * vertex of the other body to try first. */
+ * than `reach`? `start`: a vertex of the other body to try first. (Which
+ * triangles face the other body, support_separated decides.) */
 POLY_INLINE int POLY_FN(support_parts)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
                                        const double *rotation, const double *translation, int of_b, int m,
-                                       double reach, const double *axis, double facing, int start)
+                                       double reach, int start)
 {
   const POLY_FN(shape_view) *faced = of_b ? b : a, *other = of_b ? a : b;
   int t = faced->support[m];
@@ -522,13 +521,11 @@ POLY_INLINE int POLY_FN(support_parts)(const POLY_FN(shape_view) *a, const POLY_
     /* B's triangle turned into A's frame, against A's vertices. */
     double x[3];
     for (int k = 0; k < 3; k++) normal[k] = rotation[3 * k] * n[0] + rotation[3 * k + 1] * n[1] + rotation[3 * k + 2] * n[2];
-    if (-(normal[0] * axis[0] + normal[1] * axis[1] + normal[2] * axis[2]) < facing) return -1;
     for (int k = 0; k < 3; k++)
       x[k] = rotation[3 * k] * corner[0] + rotation[3 * k + 1] * corner[1] + rotation[3 * k + 2] * corner[2] +
              translation[k];
     height = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
   } else {
-    if ((double)n[0] * axis[0] + (double)n[1] * axis[1] + (double)n[2] * axis[2] < facing) return -1;
     /* Against B's vertices R v + T: n . (R v + T) = (R^T n) . v + n . T. */
     for (int k = 0; k < 3; k++)
       normal[k] = rotation[k] * (double)n[0] + rotation[3 + k] * (double)n[1] + rotation[6 + k] * (double)n[2];
@@ -578,8 +575,7 @@ POLY_INLINE int POLY_FN(support_separated)(const POLY_FN(shape_view) *a, const P
       const R *n = faced->face_normals + 3 * faced->support[m];
       if (sign * ((double)n[0] * towards[0] + (double)n[1] * towards[1] + (double)n[2] * towards[2]) < facing_here)
         continue;
-      if (POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, reach, axis, -2.0,
-                                 of_b ? extreme_a : extreme_b) == 1) {
+      if (POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, reach, of_b ? extreme_a : extreme_b)) {
         *separating = 2 * m + of_b;
         return 1;
       }
@@ -597,6 +593,5 @@ POLY_INLINE int POLY_FN(still_separated)(const POLY_FN(shape_view) *a, const POL
   int of_b = separating & 1, m = separating >> 1;
   const POLY_FN(shape_view) *faced = of_b ? b : a;
   if (separating < 0 || !faced->support || m >= faced->num_support) return 0;
-  const double axis[3] = {0.0, 0.0, 0.0};
-  return POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, POLY_FN(support_reach)(a, b), axis, -1.0, 0) == 1;
+  return POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, POLY_FN(support_reach)(a, b), 0);
 }

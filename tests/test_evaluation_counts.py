@@ -10,8 +10,8 @@ MATERIALS = ("fix m1 all property/global youngsModulus peratomtype 5e6\n"
              "fix m2 all property/global poissonsRatio peratomtype 0.3\n")
 
 
-def two_cubes_deck(nprocs_safe_box=0.05):
-    return (decks.header(boundary="f f f", lo=-nprocs_safe_box, hi=nprocs_safe_box) +
+def two_cubes_deck(half_width=0.05):
+    return (decks.header(boundary="f f f", lo=-half_width, hi=half_width) +
             "neighbor 0.004 bin\nneigh_modify delay 0\n" + MATERIALS +
             decks.template("cube", "cube.stl", scale=EDGE) +
             "pair_style polyhedral/volumetric tangential off damping off\npair_coeff * *\n"
