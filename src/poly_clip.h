@@ -32,6 +32,9 @@
 #define POLY_CLIP_H
 
 #include <math.h>
+#if defined(__SSE2__) && !defined(__CUDACC__)
+#include <emmintrin.h>
+#endif
 
 #include "poly_clip_limits.h"
 #include "poly_clip_polygon.h"
@@ -57,6 +60,15 @@ POLY_INLINE poly_clip_mask poly_clip_mask_of(const poly_clip_words *words)
   return (poly_clip_mask)words->low | ((poly_clip_mask)words->high << 64);
 #else
   return words->low;
+#endif
+}
+
+POLY_INLINE int poly_clip_lowest_bit(unsigned mask)
+{
+#ifdef __CUDA_ARCH__
+  return __ffs((int)mask) - 1;
+#else
+  return __builtin_ctz(mask);
 #endif
 }
 
@@ -196,7 +208,7 @@ POLY_INLINE void poly_clip_accumulate(poly_clip_accumulator *acc, double *polygo
  * appended to `nodes` and its corner count to `counts` (negative for A's faces). Returns 0 when the buffers
  * are full. Convex pairs keep every corner this way (no second pass), which a GPU thread runs faster than
  * summing each polygon as it comes. */
-POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, const double *planes, int other_faces,
+POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, const double *planes,
                                const unsigned *front, int on_a, double *nodes, int *num_nodes, int *counts,
                                int *num_polygons)
 {
@@ -220,19 +232,21 @@ POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, con
       for (int c = 0; c < count; c++)
         for (int k = 0; k < 3; k++) polygon[3 * c + k] = x[3 * loop[c] + k];
     } else {
-      double *in = work[0], *out = work[1];
+      /* The last clipping writes into `polygon` itself, within the room left there. */
+      const int room = POLY_CLIP_MAX_NODES - *num_nodes;
+      int clips_left = most - count;
+      double *in = work[0];
       for (int c = 0; c < count; c++)
         for (int k = 0; k < 3; k++) in[3 * c + k] = x[3 * loop[c] + k];
-      for (int k = 0; k < other_faces && n >= 3; k++)
-        if (some_front & (1u << k)) {
-          n = poly_clip_polygon(in, n, planes + 4 * k, out, POLY_CLIP_MAX_POLYGON);
-          if (n < 0) return 0;
-          double *swap = in;
-          in = out;
-          out = swap;
-        }
+      for (unsigned m = some_front; m && n >= 3; m &= m - 1) {
+        const int last = --clips_left == 0;
+        double *out = last ? polygon : in == work[0] ? work[1] : work[0];
+        n = poly_clip_polygon(in, n, planes + 4 * poly_clip_lowest_bit(m), out,
+                              last && room < POLY_CLIP_MAX_POLYGON ? room : POLY_CLIP_MAX_POLYGON);
+        if (n < 0) return 0;
+        in = out;
+      }
       if (n < 3) continue;
-      for (int c = 0; c < 3 * n; c++) polygon[c] = in[c];
     }
     *num_nodes += n;
     counts[(*num_polygons)++] = on_a ? -n : n;
@@ -242,6 +256,53 @@ POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, con
 
 /* Masks of the planes each of `count` points `x` is in front of, into `front`, and in `*parting` the planes every
  * point is in front of; 0 when a point is within `flush` of a plane (the pair goes to the general path). */
+#if defined(__SSE2__) && !defined(__CUDACC__)
+/* On a core, two planes at a time (SSE2, in every x86-64), in a loop of a fixed length so that it unrolls: the same
+ * sums in the same order, so the same bits as the loop below at about half the instructions; this was the convex
+ * path's largest cost in a pile of cubes (doc/benchmarks.md). The planes as columns, padded by planes every point
+ * is far behind. */
+#define POLY_CLIP_SIDES_PADDED 16
+static inline __attribute__((always_inline)) int poly_clip_sides_columns(const double *x, int count, const double *nx,
+                                                                         const double *ny, const double *nz,
+                                                                         const double *d, int pairs, double flush,
+                                                                         unsigned valid, unsigned *front,
+                                                                         unsigned *parting)
+{
+  const __m128d zero = _mm_setzero_pd(), limit = _mm_set1_pd(flush), sign = _mm_set1_pd(-0.0);
+  __m128d close = zero;
+  unsigned all = valid;
+  for (int v = 0; v < count; v++) {
+    const __m128d px = _mm_set1_pd(x[3 * v]), py = _mm_set1_pd(x[3 * v + 1]), pz = _mm_set1_pd(x[3 * v + 2]);
+    unsigned mask = 0;
+#pragma GCC unroll 8
+    for (int j = 0; j < pairs; j++) {
+      __m128d s = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(nx + 2 * j), px), _mm_mul_pd(_mm_loadu_pd(ny + 2 * j), py));
+      s = _mm_sub_pd(_mm_add_pd(s, _mm_mul_pd(_mm_loadu_pd(nz + 2 * j), pz)), _mm_loadu_pd(d + 2 * j));
+      mask |= (unsigned)_mm_movemask_pd(_mm_cmpgt_pd(s, zero)) << (2 * j);
+      close = _mm_or_pd(close, _mm_cmple_pd(_mm_andnot_pd(sign, s), limit));
+    }
+    front[v] = mask & valid;
+    all &= mask;
+  }
+  *parting = all;
+  return !_mm_movemask_pd(close);
+}
+
+POLY_INLINE int poly_clip_sides(const double *x, int count, const double *planes, int num_planes, double flush,
+                                unsigned *front, unsigned *parting)
+{
+  double nx[POLY_CLIP_SIDES_PADDED], ny[POLY_CLIP_SIDES_PADDED], nz[POLY_CLIP_SIDES_PADDED], d[POLY_CLIP_SIDES_PADDED];
+  const int padded = num_planes <= 8 ? 8 : POLY_CLIP_SIDES_PADDED;
+  for (int k = 0; k < padded; k++) {
+    const int real = k < num_planes;
+    nx[k] = real ? planes[4 * k] : 0.0, ny[k] = real ? planes[4 * k + 1] : 0.0;
+    nz[k] = real ? planes[4 * k + 2] : 0.0, d[k] = real ? planes[4 * k + 3] : 1e300;
+  }
+  const unsigned valid = (1u << num_planes) - 1u;
+  return padded == 8 ? poly_clip_sides_columns(x, count, nx, ny, nz, d, 4, flush, valid, front, parting)
+                     : poly_clip_sides_columns(x, count, nx, ny, nz, d, 8, flush, valid, front, parting);
+}
+#else
 POLY_INLINE int poly_clip_sides(const double *x, int count, const double *planes, int num_planes, double flush,
                                 unsigned *front, unsigned *parting)
 {
@@ -260,13 +321,7 @@ POLY_INLINE int poly_clip_sides(const double *x, int count, const double *planes
   *parting = all;
   return 1;
 }
-
-POLY_INLINE int poly_clip_lowest_bit(unsigned mask)
-{
-  int k = 0;
-  while (!(mask & (1u << k))) k++;
-  return k;
-}
+#endif
 
 /* Volume, centroid, second moment, area and normal of the intersection from its boundary's sums (taken from
  * `reference`); 0 when there is no volume. */
@@ -542,8 +597,8 @@ POLY_INLINE int poly_clip_convex_overlap(const poly_clip_faces *a, const poly_cl
   }
   double nodes[3 * POLY_CLIP_MAX_NODES];
   int counts[2 * POLY_CLIP_MAX_PLANES], num_nodes = 0, num_polygons = 0;
-  if (!poly_clip_body(b, xb, a->planes, fa, front_b, 0, nodes, &num_nodes, counts, &num_polygons) ||
-      !poly_clip_body(a, a->vertices, planes_b, fb, front_a, 1, nodes, &num_nodes, counts, &num_polygons))
+  if (!poly_clip_body(b, xb, a->planes, front_b, 0, nodes, &num_nodes, counts, &num_polygons) ||
+      !poly_clip_body(a, a->vertices, planes_b, front_a, 1, nodes, &num_nodes, counts, &num_polygons))
     return 0;
   if (num_nodes == 0) return 1;
   double reference[3] = {nodes[0], nodes[1], nodes[2]};
