@@ -14,7 +14,7 @@ static const double PI = 3.14159265358979323846;
 
 /* splitmix64: a fixed, portable sequence. */
 static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
-static double uniform(void)
+static inline double uniform(void)
 {
   uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
@@ -24,21 +24,21 @@ static double uniform(void)
 }
 
 /* Uniform random rotation (Shoemake). */
-static void random_quaternion(double q[4])
+static inline void random_quaternion(double q[4])
 {
   double u1 = uniform(), u2 = 2.0 * PI * uniform(), u3 = 2.0 * PI * uniform();
   double a = sqrt(1.0 - u1), b = sqrt(u1);
   q[0] = a * sin(u2); q[1] = a * cos(u2); q[2] = b * sin(u3); q[3] = b * cos(u3);
 }
 
-static double now(void)
+static inline double now(void)
 {
   struct timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-static int compare_doubles(const void *a, const void *b)
+static inline int compare_doubles(const void *a, const void *b)
 {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
@@ -47,7 +47,7 @@ static int compare_doubles(const void *a, const void *b)
 /* Median over `repeats` of the time per item (microseconds) of run(context), a workload of `items` items,
  * run as many times in a row as makes a repeat last at least 20 ms (counted on a first, warm-up run);
  * *fastest (when not NULL) gets the fastest repeat's. */
-static double median_time_us(void (*run)(void *context), void *context, int items, int repeats, double *fastest)
+static inline double median_time_us(void (*run)(void *context), void *context, int items, int repeats, double *fastest)
 {
   double *samples = (double *)malloc(sizeof(double) * (size_t)repeats);
   int rounds = 1;
@@ -70,7 +70,7 @@ static double median_time_us(void (*run)(void *context), void *context, int item
 
 /* The arguments SHAPES_DIR [poses] [repeats] (defaults 64 and 5, repeats at least least_repeats); 0 when they
  * are usable. */
-static int read_arguments(int argc, char **argv, int *poses, int *repeats, int least_repeats)
+static inline int read_arguments(int argc, char **argv, int *poses, int *repeats, int least_repeats)
 {
   if (argc < 2) {
     fprintf(stderr, "usage: %s SHAPES_DIR [poses] [repeats]\n", argv[0]);
