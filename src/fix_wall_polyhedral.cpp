@@ -436,9 +436,10 @@ void FixWallPolyhedral::warn_initial_overlaps()
   if (total[1] <= 0.0 || comm->me != 0) return;
   char message[512];
   snprintf(message, sizeof message,
-           "Fix wall/polyhedral %s: %.0f of %.0f particle-wall contacts at the start of this run are deeper than 1%% "
-           "of the particle's bounding diameter (or than cohesion holds them), the deepest %.3g%% of it. They will be pushed out violently: check "
-           "create_polyhedron positions, insertion regions, or the data file", id, total[1], total[0],
+           "Fix wall/polyhedral %s: %.0f of %.0f particle-wall contacts at the start of this run, new (not in "
+           "contact at the step before), are deeper than 1%% of the particle's bounding diameter (or than cohesion "
+           "holds them), the deepest %.3g%% of it. They will be pushed out violently: check create_polyhedron "
+           "positions, insertion regions, or the data file", id, total[1], total[0],
            100.0 * deepest);
   error->warning(FLERR, message);
 }
@@ -473,7 +474,9 @@ void FixWallPolyhedral::apply_contact(int i, int type_of_wall, double *spring, b
 {
   double **x = atom->x, **v = atom->v, **omega = atom->omega, **f = atom->f, **torque = atom->torque;
   const poly_material_pair *material = &materials[atom->type[i] * (atom->ntypes + 1) + type_of_wall];
-  if (!advance_history) {  // set-up: tally for warn_initial_overlaps
+  // Set-up: tally for warn_initial_overlaps the contacts that are new, the spring's stiffness (history[3],
+  // kept with tangential history) being zero for a particle that did not touch the wall at the step before.
+  if (!advance_history && !(spring[3] > 0.0)) {
     double fraction = depth / (2.0 * atom->radius[i]);
     setup_overlaps[0] += 1.0;
     if (fraction > poly_initial_overlap_allowance(material)) setup_overlaps[1] += 1.0;

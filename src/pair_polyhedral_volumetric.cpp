@@ -591,6 +591,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
         if (touch) touch[jj] = 0;
         continue;
       }
+      const bool persisting = touch && touch[jj];
       if (touch) touch[jj] = 1;
 
       poly_contact_input input;
@@ -609,7 +610,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
       poly_contact_output out;
       poly_contact_evaluate(&input, &material(type[i], type[j]), tangential_history, damping, state, &out);
 
-      apply_contact(i, j, geometry.volume, geometry.depth, geometry.normal, geometry.centroid, out);
+      apply_contact(i, j, geometry.volume, geometry.depth, geometry.normal, geometry.centroid, out, persisting);
     }
   }
 }
@@ -617,7 +618,8 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
 // Forces and torques on i (and on j when it is owned here or newton is on),
 // virial, and the record for compute pair/polyhedral/local.
 void PairPolyhedralVolumetric::apply_contact(int i, int j, double volume, double depth, const double *normal,
-                                             const double *centroid, const poly_contact_output &out)
+                                             const double *centroid, const poly_contact_output &out,
+                                             bool persisting)
 {
   double **x = atom->x, **f = atom->f, **torque = atom->torque;
   int *tag = atom->tag;
@@ -639,6 +641,7 @@ void PairPolyhedralVolumetric::apply_contact(int i, int j, double volume, double
     PolyContactRecord record;
     record.id_i = tag[i];
     record.id_j = tag[j];
+    record.persisting = persisting;
     record.volume = volume;
     record.depth = depth;
     for (int k = 0; k < 3; k++) {

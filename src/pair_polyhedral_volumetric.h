@@ -18,6 +18,7 @@ namespace LAMMPS_NS {
 // One active contact, as listed by compute pair/polyhedral/local.
 struct PolyContactRecord {
   int id_i, id_j;
+  int persisting;  // the pair was in contact at the step before (LIGGGHTS' touch flag): not a new overlap
   double volume, depth, normal[3], contact_point[3], normal_force[3], tangential_force[3];
 };
 
@@ -131,7 +132,7 @@ class PairPolyhedralVolumetric : public Pair {
   std::vector<int> separating_hint, hint_offset;
   bool still_separated(int i, int j, int hint);
   void apply_contact(int i, int j, double volume, double depth, const double *normal, const double *centroid,
-                     const poly_contact_output &out);
+                     const poly_contact_output &out, bool persisting);
   const poly_material_pair &material(int itype, int jtype) const
   {
     return materials[itype * (atom_ntypes + 1) + jtype];

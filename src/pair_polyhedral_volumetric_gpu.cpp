@@ -241,8 +241,10 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
         out.tangential_force[k] = r.tangential_force[k];
       }
       out.normal_force = r.normal_force;
+      // The host's touch flags: the state the pairs were sent with (at set-up, the step before the run).
+      const bool persisting = listgranhistory && listgranhistory->firstneigh[pair_i[p]][pair_jj[p]];
       apply_contact(pair_i[p], firstneigh[pair_i[p]][pair_jj[p]] & NEIGHMASK, r.volume, r.depth, r.normal,
-                    r.centroid, out);
+                    r.centroid, out, persisting);
     }
   } else {
     const double *sums = poly_gpu_force_torque();

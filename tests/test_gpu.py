@@ -15,6 +15,7 @@ import pytest
 import decks
 from conftest import MPI_ENV, ROOT
 from test_mesh_walls import drum_deck
+from test_bad_input import check_settled_stack, settled_stack_deck
 from test_pair_parallel import MATERIALS, particles, templates
 
 
@@ -257,6 +258,15 @@ def test_gpu_history_survives_restart(run_deck, tmp_path, records):
     worst = max(abs(x - y) / abs(y) for x, y in zip(tail["KinEng"], whole["KinEng"][start:]))
     print(f"restart ({'per-pair' if records else 'fast'} path): largest relative kinetic energy difference {worst:.2e}")
     assert worst <= 1e-8, worst
+
+
+@needs_gpu
+def test_gpu_settled_deep_contacts_give_no_warning_at_a_later_run(run_deck, monkeypatch):
+    """test_bad_input's settled stack with the GPU style, all its pairs on the device: the contacts were in
+    contact at the step before (the host's touch flags at set-up), so the second run does not warn."""
+    monkeypatch.setenv("POLY_GPU_MIN_PAIRS", "0")
+    monkeypatch.setenv("POLY_GPU_MIN_PIECES", "0")
+    check_settled_stack(run_deck(settled_stack_deck("polyhedral/volumetric/gpu")))
 
 
 @needs_gpu
