@@ -298,6 +298,19 @@ def test_settled_deep_contacts_give_no_warning_at_a_later_run(run_deck):
     check_settled_stack(run_deck(settled_stack_deck("polyhedral/volumetric")))
 
 
+def test_settled_deep_contacts_give_no_warning_after_a_restart(run_deck, tmp_path):
+    """The settled stack written to a restart file and read back: its contacts' history comes back with it (the
+    pair's touch flags, the wall's spring), so the resumed run, its contacts as deep, does not warn either."""
+    deck = settled_stack_deck("polyhedral/volumetric").replace("run 10\n", "write_restart stack.restart\n")
+    first = run_deck(deck, workdir=tmp_path / "first")
+    assert first.returncode == 0, first.output[-3000:]
+    body = deck[deck.index("fix m1 "):]
+    resumed = ("atom_modify map array sort 0 0\nnewton off\ncommunicate single vel yes\n"
+               "read_restart ../first/stack.restart\n" + body[:body.index("create_polyhedron")] +
+               body[body.index("fix floor"):body.index("run 12000")] + "run 10\n")
+    check_settled_stack(run_deck(resumed, workdir=tmp_path / "second"))
+
+
 def test_overlap_warning_on_two_ranks(run_deck):
     deck = two_cubes_deck(gap=-0.005).replace("units si\n", "units si\nprocessors 2 1 1\n")
     result = run_deck(deck + "run 10\n", nprocs=2)
