@@ -261,7 +261,7 @@ POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, con
  * sums in the same order, so the same bits as the loop below at about half the instructions; this was the convex
  * path's largest cost in a pile of cubes (doc/benchmarks.md). The planes as columns, padded by planes every point
  * is far behind. */
-#define POLY_CLIP_SIDES_PADDED 16
+#define POLY_CLIP_SIDES_PADDED ((POLY_CLIP_MAX_PLANES + 1) / 2 * 2) /* every convex shape's faces, even */
 static inline __attribute__((always_inline)) int poly_clip_sides_columns(const double *x, int count, const double *nx,
                                                                          const double *ny, const double *nz,
                                                                          const double *d, int pairs, double flush,
@@ -300,7 +300,8 @@ POLY_INLINE int poly_clip_sides(const double *x, int count, const double *planes
   }
   const unsigned valid = (1u << num_planes) - 1u;
   return padded == 8 ? poly_clip_sides_columns(x, count, nx, ny, nz, d, 4, flush, valid, front, parting)
-                     : poly_clip_sides_columns(x, count, nx, ny, nz, d, 8, flush, valid, front, parting);
+                     : poly_clip_sides_columns(x, count, nx, ny, nz, d, POLY_CLIP_SIDES_PADDED / 2, flush, valid,
+                                               front, parting);
 }
 #else
 POLY_INLINE int poly_clip_sides(const double *x, int count, const double *planes, int num_planes, double flush,
