@@ -258,9 +258,9 @@ POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, con
  * point is in front of; 0 when a point is within `flush` of a plane (the pair goes to the general path). */
 #if defined(__SSE2__) && !defined(__CUDACC__)
 /* On a core, two planes at a time (SSE2, in every x86-64), in a loop of a fixed length so that it unrolls: the same
- * sums in the same order, so the same bits as the loop below at about half the instructions; this was the convex
- * path's largest cost in a pile of cubes (doc/benchmarks.md). The planes as columns, padded by planes every point
- * is far behind. */
+ * sums in the same order, so the same bits as the loop below, in fewer instructions and without a branch per plane;
+ * this was the convex path's largest cost in a pile of cubes (doc/benchmarks.md, "Eighth step"). The planes as
+ * columns, padded by planes every point is far behind. */
 #define POLY_CLIP_SIDES_PADDED ((POLY_CLIP_MAX_PLANES + 1) / 2 * 2) /* every convex shape's faces, even */
 static inline __attribute__((always_inline)) int poly_clip_sides_columns(const double *x, int count, const double *nx,
                                                                          const double *ny, const double *nz,

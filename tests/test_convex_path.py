@@ -259,3 +259,32 @@ def test_clip_polygon_matches_the_reference_step_and_its_capacity(tmp_path):
     assert counts["steps"] > 50000 and counts["grew"] > 1000, result.stdout  # the cases it is meant to cover
     assert counts["mismatches"] == 0 and counts["capacity_failures"] == 0, result.stdout
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+@pytest.mark.parametrize("defines, shapes", [
+    ([], ["cube.stl", "tetrahedron.obj", "box_1x2x3.off", "schoenhardt.stl", "rock_10.obj", "rock_20.obj"]),
+    (["-DPOLY_CLIP_WIDE_MASKS"], ["cube.stl", "schoenhardt.stl", "rock_20.obj"])], ids=["host masks", "wide masks"])
+def test_clipping_sides_two_planes_at_a_time_keep_the_bits(tmp_path, defines, shapes):
+    """On x86-64 the clipping path sides the vertices two planes at a time (SSE2, src/poly_clip.h); the scalar loop
+    stays for the GPU and other machines. Only the masks and the flush decision leave the sides, so both must give
+    the same results to the bit: tests/unit/clip_sides_bits.c, built as is and with -U__SSE2__ (the scalar loop),
+    must hash every bit of every result field the same over random and resting poses of shapes that take the convex
+    path and the pieces (with the GPU's 128-bit masks too), and the poses must touch often enough to mean something.
+    (A mask bit put in the wrong place fails it; a different order of the sums, which moves no sign here, does
+    not.)"""
+    if not shutil.which("gcc"):
+        pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
+    sources = [os.path.join(ROOT, "tests", "unit", "clip_sides_bits.c")] + [
+        os.path.join(ROOT, "src", name) for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c")]
+    outputs = []
+    for variant in ([], ["-U__SSE2__"]):
+        binary = str(tmp_path / ("scalar" if variant else "sse2"))
+        subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"] + defines + variant +
+                       ["-I" + os.path.join(ROOT, "src")] + sources + ["-lm", "-o", binary], check=True)
+        run_ = subprocess.run([binary, os.path.join(ROOT, "examples", "shapes"), "400"] + shapes,
+                              capture_output=True, text=True, check=True)
+        outputs.append(run_.stdout)
+    print(outputs[0])
+    assert outputs[0] == outputs[1], outputs
+    for line in outputs[0].splitlines():
+        assert int(line.split()[2]) >= 80, line
