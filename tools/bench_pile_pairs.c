@@ -14,6 +14,7 @@
 
 #include "bench_common.h"
 #include "poly_overlap.h"
+#include "result_hash.h"
 
 #define MAX_PARTICLES 100000
 
@@ -38,23 +39,16 @@ static void one_pass(void *context)
   sink = volume;
 }
 
-/* FNV-1a over the bits of every result field: volume, depth, areas, centroid, normal, second moment, the
- * separation hint and the node count. */
+/* The hash of every result field over the pairs (tools/result_hash.h), and the contacts. */
 static unsigned long long result_hash(const pile_pairs *pairs, int *contacts)
 {
-  unsigned long long hash = 1469598103934665603ULL;
+  unsigned long long hash = RESULT_HASH_START;
   *contacts = 0;
   for (int p = 0; p < pairs->count; p++) {
     poly_overlap_result r;
     poly_overlap_d(pairs->view, &pairs->a[p], pairs->view, &pairs->b[p], pairs->workspace, &r);
     *contacts += r.volume > 0.0;
-    double fields[18] = {r.volume, r.depth, r.area, r.projected_area, r.centroid[0], r.centroid[1], r.centroid[2],
-                         r.normal[0], r.normal[1], r.normal[2], r.second_moment[0], r.second_moment[1],
-                         r.second_moment[2], r.second_moment[3], r.second_moment[4], r.second_moment[5],
-                         (double)r.separating, (double)r.num_nodes};
-    unsigned long long bits[18];
-    memcpy(bits, fields, sizeof bits);
-    for (int k = 0; k < 18; k++) hash = (hash ^ bits[k]) * 1099511628211ULL;
+    hash = result_hash_add(hash, &r);
   }
   return hash;
 }

@@ -5,42 +5,15 @@
  * second moments; the hash covers every bit of every result field, and the counts say how many touched.
  *
  *   clip_sides_bits SHAPES_DIR PAIRS SHAPE_FILE...    -> "SHAPE contacts N hash H" per shape */
+#define _POSIX_C_SOURCE 199309L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "poly_overlap.h"
-
-static unsigned long long state = 0x9e3779b97f4a7c15ULL;
-
-static double uniform(void)
-{
-  state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(state >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static void random_quaternion(double *q)
-{
-  double norm = 0.0;
-  for (int k = 0; k < 4; k++) {
-    q[k] = 2.0 * uniform() - 1.0;
-    norm += q[k] * q[k];
-  }
-  for (int k = 0; k < 4; k++) q[k] /= sqrt(norm);
-}
-
-static unsigned long long add_result(unsigned long long hash, const poly_overlap_result *r)
-{
-  double fields[18] = {r->volume, r->depth, r->area, r->projected_area, r->centroid[0], r->centroid[1],
-                       r->centroid[2], r->normal[0], r->normal[1], r->normal[2], r->second_moment[0],
-                       r->second_moment[1], r->second_moment[2], r->second_moment[3], r->second_moment[4],
-                       r->second_moment[5], (double)r->separating, (double)r->num_nodes};
-  unsigned long long bits[18];
-  memcpy(bits, fields, sizeof bits);
-  for (int k = 0; k < 18; k++) hash = (hash ^ bits[k]) * 1099511628211ULL;
-  return hash;
-}
+#include "../../tools/bench_common.h"  /* a fixed, portable random sequence and rotations */
+#include "../../tools/result_hash.h"
 
 int main(int argc, char **argv)
 {
@@ -61,7 +34,7 @@ int main(int argc, char **argv)
     poly_overlap_workspace_d ws;
     if (poly_overlap_workspace_create_d(&ws, shape.num_vertices, shape.num_triangles) != 0) return 1;
     ws.want_second_moment = 1;
-    unsigned long long hash = 1469598103934665603ULL;
+    unsigned long long hash = RESULT_HASH_START;
     int contacts = 0;
     const double size = 2.0 * shape.bounding_radius / sqrt(3.0);
     for (int p = 0; p < pairs; p++) {
@@ -89,7 +62,7 @@ int main(int argc, char **argv)
       poly_overlap_result result;
       poly_overlap_d(&view, &a, &view, &b, &ws, &result);
       contacts += result.volume > 0.0;
-      hash = add_result(hash, &result);
+      hash = result_hash_add(hash, &result);
     }
     printf("%s contacts %d hash %016llx\n", argv[s], contacts, hash);
     poly_overlap_workspace_destroy_d(&ws);
