@@ -259,9 +259,29 @@ POLY_INLINE int poly_clip_body(const poly_clip_faces *body, const double *x, con
 #if defined(__SSE2__) && !defined(__CUDACC__)
 /* On a core, two planes at a time (SSE2, in every x86-64), in a loop of a fixed length so that it unrolls: the same
  * sums in the same order, so the same bits as the loop below, in fewer instructions and without a branch per plane;
- * this was the convex path's largest cost in a pile of cubes (doc/benchmarks.md, "Eighth step"). The planes as
- * columns, padded by planes every point is far behind. */
+ * this was the convex path's largest cost in a pile of cubes (doc/benchmarks.md, "Eighth step"). */
 #define POLY_CLIP_SIDES_PADDED ((POLY_CLIP_MAX_PLANES + 1) / 2 * 2) /* every convex shape's faces, even */
+/* The planes' columns for the loops below, from num_planes to `padded` filled with planes every point lies far
+ * behind (their bits are masked off). */
+POLY_INLINE void poly_clip_plane_columns(const double *planes, int num_planes, int padded, double *nx, double *ny,
+                                         double *nz, double *d)
+{
+  for (int k = 0; k < padded; k++) {
+    const int real = k < num_planes;
+    nx[k] = real ? planes[4 * k] : 0.0, ny[k] = real ? planes[4 * k + 1] : 0.0;
+    nz[k] = real ? planes[4 * k + 2] : 0.0, d[k] = real ? planes[4 * k + 3] : 1e300;
+  }
+}
+
+/* The point's sides of planes k and k + 1: n.p - d, summed in the scalar loop's order. */
+static inline __attribute__((always_inline)) __m128d poly_clip_side_pair(const double *nx, const double *ny,
+                                                                         const double *nz, const double *d, int k,
+                                                                         __m128d px, __m128d py, __m128d pz)
+{
+  __m128d s = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(nx + k), px), _mm_mul_pd(_mm_loadu_pd(ny + k), py));
+  return _mm_sub_pd(_mm_add_pd(s, _mm_mul_pd(_mm_loadu_pd(nz + k), pz)), _mm_loadu_pd(d + k));
+}
+
 static inline __attribute__((always_inline)) int poly_clip_sides_columns(const double *x, int count, const double *nx,
                                                                          const double *ny, const double *nz,
                                                                          const double *d, int pairs, double flush,
@@ -276,8 +296,7 @@ static inline __attribute__((always_inline)) int poly_clip_sides_columns(const d
     unsigned mask = 0;
 #pragma GCC unroll 8
     for (int j = 0; j < pairs; j++) {
-      __m128d s = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(nx + 2 * j), px), _mm_mul_pd(_mm_loadu_pd(ny + 2 * j), py));
-      s = _mm_sub_pd(_mm_add_pd(s, _mm_mul_pd(_mm_loadu_pd(nz + 2 * j), pz)), _mm_loadu_pd(d + 2 * j));
+      const __m128d s = poly_clip_side_pair(nx, ny, nz, d, 2 * j, px, py, pz);
       mask |= (unsigned)_mm_movemask_pd(_mm_cmpgt_pd(s, zero)) << (2 * j);
       close = _mm_or_pd(close, _mm_cmple_pd(_mm_andnot_pd(sign, s), limit));
     }
@@ -293,11 +312,7 @@ POLY_INLINE int poly_clip_sides(const double *x, int count, const double *planes
 {
   double nx[POLY_CLIP_SIDES_PADDED], ny[POLY_CLIP_SIDES_PADDED], nz[POLY_CLIP_SIDES_PADDED], d[POLY_CLIP_SIDES_PADDED];
   const int padded = num_planes <= 8 ? 8 : POLY_CLIP_SIDES_PADDED;
-  for (int k = 0; k < padded; k++) {
-    const int real = k < num_planes;
-    nx[k] = real ? planes[4 * k] : 0.0, ny[k] = real ? planes[4 * k + 1] : 0.0;
-    nz[k] = real ? planes[4 * k + 2] : 0.0, d[k] = real ? planes[4 * k + 3] : 1e300;
-  }
+  poly_clip_plane_columns(planes, num_planes, padded, nx, ny, nz, d);
   const unsigned valid = (1u << num_planes) - 1u;
   return padded == 8 ? poly_clip_sides_columns(x, count, nx, ny, nz, d, 4, flush, valid, front, parting)
                      : poly_clip_sides_columns(x, count, nx, ny, nz, d, POLY_CLIP_SIDES_PADDED / 2, flush, valid,
@@ -409,9 +424,7 @@ POLY_INLINE int poly_clip_sides_of_planes(const double *x, int count, const doub
 {
   double nx[POLY_CLIP_MAX_SHAPE_PLANES + 1], ny[POLY_CLIP_MAX_SHAPE_PLANES + 1], nz[POLY_CLIP_MAX_SHAPE_PLANES + 1],
       d[POLY_CLIP_MAX_SHAPE_PLANES + 1];
-  for (int k = 0; k < num_planes; k++)
-    nx[k] = planes[4 * k], ny[k] = planes[4 * k + 1], nz[k] = planes[4 * k + 2], d[k] = planes[4 * k + 3];
-  nx[num_planes] = ny[num_planes] = nz[num_planes] = 0.0, d[num_planes] = 1e300;  /* every point far behind it */
+  poly_clip_plane_columns(planes, num_planes, num_planes + 1, nx, ny, nz, d);
   const poly_clip_mask valid = num_planes == POLY_CLIP_MAX_SHAPE_PLANES ? ~(poly_clip_mask)0
                                                                         : ((poly_clip_mask)1 << num_planes) - 1;
   const __m128d zero = _mm_setzero_pd(), limit = _mm_set1_pd(flush), sign = _mm_set1_pd(-0.0);
@@ -422,8 +435,7 @@ POLY_INLINE int poly_clip_sides_of_planes(const double *x, int count, const doub
     poly_clip_mask front = 0, back = 0;
     __m128d close = zero;
     for (int k = 0; k < num_planes; k += 2) {
-      __m128d s = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(nx + k), px), _mm_mul_pd(_mm_loadu_pd(ny + k), py));
-      s = _mm_sub_pd(_mm_add_pd(s, _mm_mul_pd(_mm_loadu_pd(nz + k), pz)), _mm_loadu_pd(d + k));
+      const __m128d s = poly_clip_side_pair(nx, ny, nz, d, k, px, py, pz);
       front |= (poly_clip_mask)_mm_movemask_pd(_mm_cmpgt_pd(s, zero)) << k;
       back |= (poly_clip_mask)_mm_movemask_pd(_mm_cmplt_pd(s, zero)) << k;
       close = _mm_or_pd(close, _mm_cmple_pd(_mm_andnot_pd(sign, s), limit));
