@@ -130,6 +130,7 @@ __device__ View shape_view(const DeviceShapes &s, int shape, const Real *vertice
   v.triangles = s.triangles + 3 * s.offsets[3 * shape + 1];
   v.edges = s.edges + 2 * s.offsets[3 * shape + 2];
   v.edge_triangles = s.edge_triangles + 2 * s.offsets[3 * shape + 2];
+  v.triangle_edges = NULL;
   v.face_of = v.ridges = NULL;  // the device takes the reference path (POLY_OVERLAP_RECORDS 0)
   v.num_ridges = 0;
   v.support = NULL;

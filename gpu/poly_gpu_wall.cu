@@ -53,6 +53,7 @@ template <typename View, typename Real> __device__ inline View prism_view(const 
   prism.triangles = piece.triangles;
   prism.edges = piece.edges;
   prism.edge_triangles = piece.edge_triangles;
+  prism.triangle_edges = NULL;
   prism.face_of = prism.ridges = NULL;
   prism.num_ridges = 0;
   prism.support = NULL;

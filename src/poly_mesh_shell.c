@@ -683,6 +683,7 @@ static void prism_faces(poly_mesh_prism *prism)
   prism->view.support = prism->support;
   prism->view.num_support = num_support;
   prism->view.face_of = prism->view.ridges = NULL;
+  prism->view.triangle_edges = NULL;
   prism->view.num_ridges = 0;
   memset(&prism->view.clip, 0, sizeof prism->view.clip);
   memset(&prism->clip_view.clip, 0, sizeof prism->clip_view.clip);  /* until poly_mesh_prism_clip_faces */

@@ -44,6 +44,7 @@ poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
   view.triangles = shape->triangles;
   view.edges = shape->edges;
   view.edge_triangles = shape->edge_triangles;
+  view.triangle_edges = shape->triangle_edges;
   view.face_of = shape->face_of;
   view.ridges = shape->ridges;
   view.num_ridges = shape->num_ridges;
@@ -74,6 +75,7 @@ int poly_shape_view_make_f(const poly_shape *shape, poly_shape_view_f *view)
   view->triangles = shape->triangles;
   view->edges = shape->edges;
   view->edge_triangles = shape->edge_triangles;
+  view->triangle_edges = shape->triangle_edges;
   view->face_of = shape->face_of;
   view->ridges = shape->ridges;
   view->num_ridges = shape->num_ridges;

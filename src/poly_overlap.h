@@ -91,6 +91,7 @@ typedef struct poly_overlap_result {
     const int *triangles;     /* 3 * num_triangles */                                               \
     const int *edges;         /* 2 * num_edges, first < second */                                   \
     const int *edge_triangles;/* 2 * num_edges: first runs first->second, second the reverse */     \
+    const int *triangle_edges;/* 3 * num_triangles: edges of corners 0-1, 1-2, 2-0; or NULL */      \
     REAL bounding_radius;                                                                            \
     const int *face_of;       /* convex shapes: per triangle its face's lowest triangle; else NULL */ \
     const int *ridges;        /* convex shapes: the edges between two faces */                      \
@@ -126,6 +127,8 @@ typedef struct poly_overlap_result {
     int capacity_grid;                 /* entries of the grid of kept triangles (find_crossings) */    \
     int *grid_start, *grid_entries, *grid_stamps, *grid_candidates; /* cells; their triangles; per triangle */ \
     int *box_passing;                  /* find_crossings: an edge's candidates whose box meets its own */ \
+    int *near_list_a, *near_list_b;    /* records path: the kept triangles whose box meets both bodies' boxes */ \
+    unsigned *edge_mask;               /* find_crossings: a bit per edge of a kept triangle */          \
     REAL *vertices_a, *vertices_b;     /* local frame, 3 * capacity_vertices each */                \
     REAL *along_a, *along_b;           /* per vertex its place along the slab's axis (host: records path) */ \
     REAL *planes_a, *planes_b;         /* per triangle (v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1: 4 each */ \

@@ -114,6 +114,11 @@ POLY_INLINE int POLY_FN(perturbed_sign)(R value, R first_order)
   return first_order > 0 ? 1 : -1;
 }
 
+/* 32-bit words of a mask of the edges of a closed mesh of `triangles` triangles (3/2 as many edges). */
+#ifndef POLY_EDGE_MASK_WORDS
+#define POLY_EDGE_MASK_WORDS(triangles) ((3 * (triangles) / 2 + 31) / 32 + 1)
+#endif
+
 /* Sizes the workspace for shapes of up to max_vertices / max_triangles in one
  * block of memory: returns the bytes needed, and with `ws` and `memory` given
  * points the workspace's arrays into that block. */
@@ -148,8 +153,10 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   /* The grid of kept triangles: its cells' starts, its entries (a triangle in a few cells), and per
    * triangle a stamp and a slot for the candidates of an edge. */
   size_t ncells = POLY_OVERLAP_RECORDS ? 16 * 16 * 16 + 1 : 0, nentries = POLY_OVERLAP_RECORDS ? 8 * nt + 64 : 0;
-  size_t ngrid = POLY_OVERLAP_RECORDS ? nt : 0;
-  size_t ints = 2 * nt + 2 * nr + 3 * nruns + nbuckets + 4 * nr + 4 * nfaces + 2 * nrows + ncells + nentries + 3 * ngrid;
+  size_t ngrid = POLY_OVERLAP_RECORDS ? nt : 0, nnear = POLY_OVERLAP_RECORDS ? nt : 0;
+  size_t nmask = POLY_OVERLAP_RECORDS ? POLY_EDGE_MASK_WORDS(nt) : 0;
+  size_t ints = 2 * nt + 2 * nnear + nmask + 2 * nr + 3 * nruns + nbuckets + 4 * nr + 4 * nfaces + 2 * nrows + ncells +
+                nentries + 3 * ngrid;
   size_t bytes = sizeof(R) * reals + sizeof(int) * ints + 2 * nt + 2 * nv;
   if (!ws || !memory) return bytes;
   R *r = (R *)memory;
@@ -188,6 +195,9 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->grid_stamps = n; n += ngrid;
   ws->grid_candidates = n; n += ngrid;
   ws->box_passing = n; n += ngrid;
+  ws->near_list_a = n; n += nnear;
+  ws->near_list_b = n; n += nnear;
+  ws->edge_mask = (unsigned *)n; n += nmask;
   unsigned char *c = (unsigned char *)n;
   ws->kept_a = c; c += nt;
   ws->kept_b = c; c += nt;

@@ -123,6 +123,20 @@ POLY_INLINE int POLY_FN(grid_candidates)(const POLY_FN(grid) *g, POLY_FN(overlap
   return count;
 }
 
+/* The triangles of `kept_list` whose box meets `box` (low xyz, high xyz), in its order and without a branch per
+ * triangle, into `near_list`; returns how many. */
+POLY_INLINE int POLY_FN(near_triangles)(const R *bounds, const int *kept_list, int num_kept, const R *box,
+                                        int *near_list)
+{
+  int count = 0;
+  for (int n = 0; n < num_kept; n++) {
+    int t = kept_list[n];
+    near_list[count] = t;
+    count += POLY_FN(boxes_overlap)(bounds + 6 * t, bounds + 6 * t + 3, box);
+  }
+  return count;
+}
+
 /* crossing_in_triangle (poly_overlap_predicates_impl.h) with its three edge
  * orientations sharing their parts: the segment's direction and the corners'
  * offsets from p0, each with its |.|_1, are computed once rather than once per
@@ -168,89 +182,108 @@ POLY_INLINE int POLY_FN(records_crossing_in_triangle)(const R *p0, const R *p1, 
  * triangles. Returns 0, or -1 when the records do not fit the workspace. */
 POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R *my_vertices, const R *my_along,
                                         const R *my_planes, const R *my_bounds, const R *my_normals, int mine_is_b,
+                                        const int *my_kept_list, int my_num_kept,
                                         const POLY_FN(shape_view) *other, const R *other_vertices,
                                         const R *other_planes, const R *other_bounds, const R *other_normals,
-                                        const int *other_kept_list, int other_num_kept, R slab_limit, R tolerance,
+                                        const int *other_kept_list, int other_num_kept, R slab_limit,
+                                        const R *near_box, R tolerance,
                                         POLY_FN(overlap_workspace) *ws, int *num_records, int *runs, int *num_runs,
                                         int *flush)
 {
-  POLY_FN(grid) grid;
+  POLY_FN(grid) grid = {{0, 0, 0}, {0, 0, 0}, 0};
   int gridded = other_num_kept >= POLY_GRID_MIN_KEPT &&
                 POLY_FN(grid_build)(ws, other_bounds, other_kept_list, other_num_kept, &grid) == 0;
-  for (int e = 0; e < mine->num_edges; e++) {
-    int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
-    const R *p0 = my_vertices + 3 * v0, *p1 = my_vertices + 3 * v1;
-    R d0 = my_along[v0], d1 = my_along[v1];
-    /* The other body lies beyond slab_limit along +axis (my_along) for A, below it for B. */
-    if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) continue;
-    int first = *num_records, count = 0;
-    R low[3], high[3];
-    POLY_FN(segment_bounds)(p0, p1, low, high);
-    const int *candidates = other_kept_list;
-    int num_candidates = other_num_kept;
-    if (gridded) {
-      num_candidates = POLY_FN(grid_candidates)(&grid, ws, low, high, e);
-      candidates = ws->grid_candidates;
-    }
-    /* The candidates whose box meets the edge's, in their order, without a branch per candidate (four in five
-     * miss, unpredictably); then the tests on those. */
-    int *passing = ws->box_passing, num_passing = 0;
-    for (int n = 0; n < num_candidates; n++) {
-      int t = candidates[n];
-      passing[num_passing] = t;
-      num_passing += POLY_FN(boxes_overlap)(low, high, other_bounds + 6 * t);
-    }
-    for (int n = 0; n < num_passing; n++) {
-      int t = passing[n];
-      const int *tri = other->triangles + 3 * t;
-      const R *plane = other_planes + 4 * t;
-      R side0 = POLY_FN(plane_side)(p0, other_vertices, tri, plane);
-      R side1 = POLY_FN(plane_side)(p1, other_vertices, tri, plane);
-      if (tolerance > 0 && !*flush) {
-        /* |side| / |plane|_2 is the distance to the plane; |plane|_1 >= |plane|_2, so this only lets more
-         * edges on to triangles_flush, which decides as the reference path does. */
-        R reach = tolerance * POLY_FN(norm1)(plane);
-        if (fabs(side0) <= reach && fabs(side1) <= reach)
-          for (int j = 0; j < 2 && !*flush; j++) {
-            int m = mine->edge_triangles[2 * e + j];
-            const R *box_m = my_bounds + 6 * m, *box_t = other_bounds + 6 * t;
-            if (!POLY_FN(boxes_overlap)(box_m, box_m + 3, box_t)) continue;
-            *flush = !mine_is_b ? POLY_FN(triangles_flush)(my_vertices, mine->triangles + 3 * m, my_planes + 4 * m,
-                                                           my_normals + 3 * m, other_vertices, tri, plane,
-                                                           other_normals + 3 * t, tolerance)
-                                : POLY_FN(triangles_flush)(other_vertices, tri, plane, other_normals + 3 * t,
-                                                           my_vertices, mine->triangles + 3 * m, my_planes + 4 * m,
-                                                           my_normals + 3 * m, tolerance);
-          }
+  /* An edge in the slab has an end in it, so both its triangles are kept: the edges of the kept triangles, in
+   * ascending order as the reference path takes them (rocks: a fifth of the edges), rather than all. */
+  const int words = (mine->num_edges + 31) / 32;
+  unsigned *mask = ws->edge_mask;
+  for (int w = 0; w < words; w++) mask[w] = mine->triangle_edges ? 0u : ~0u;
+  if (mine->num_edges % 32) mask[words - 1] &= ~0u >> (32 - mine->num_edges % 32);
+  if (mine->triangle_edges)
+    for (int n = 0; n < my_num_kept; n++)
+      for (int k = 0; k < 3; k++) {
+        int e = mine->triangle_edges[3 * my_kept_list[n] + k];
+        mask[e >> 5] |= 1u << (e & 31);
       }
-      int sign0 = POLY_FN(side_sign)(side0, mine_is_b, other_vertices, tri, plane);
-      int sign1 = POLY_FN(side_sign)(side1, mine_is_b, other_vertices, tri, plane);
-      if (sign0 == sign1) continue;
-      R lambda;
-      int side = POLY_FN(records_crossing_in_triangle)(p0, p1, mine_is_b, other_vertices, tri, side0, side1, sign0,
-                                                       &lambda);
-      if (!side) continue;
-      if (first + count >= ws->capacity_records) return -1;
-      /* Insertion sort: an edge crosses a handful of triangles. */
-      int slot = first + count++;
-      while (slot > first && ws->record_lambda[slot - 1] > lambda) {
-        ws->record_lambda[slot] = ws->record_lambda[slot - 1];
-        ws->record_entering[slot] = ws->record_entering[slot - 1];
-        ws->record_triangle[slot] = ws->record_triangle[slot - 1];
-        ws->record_edge[slot] = ws->record_edge[slot - 1];
-        slot--;
+  for (int w = 0; w < words; w++)
+    for (unsigned bits = mask[w]; bits; bits &= bits - 1) {
+      int e = 32 * w + poly_clip_lowest_bit(bits);
+      int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
+      const R *p0 = my_vertices + 3 * v0, *p1 = my_vertices + 3 * v1;
+      R d0 = my_along[v0], d1 = my_along[v1];
+      /* The other body lies beyond slab_limit along +axis (my_along) for A, below it for B. */
+      if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) continue;
+      R low[3], high[3];
+      POLY_FN(segment_bounds)(p0, p1, low, high);
+      /* An edge whose box misses the boxes' common part meets no candidate's box, and both its ends lie outside
+       * the other's box: no record, no inside part, nothing for settle_inside to carry. */
+      if (!POLY_FN(boxes_overlap)(low, high, near_box)) continue;
+      int first = *num_records, count = 0;
+      const int *candidates = other_kept_list;
+      int num_candidates = other_num_kept;
+      if (gridded) {
+        num_candidates = POLY_FN(grid_candidates)(&grid, ws, low, high, e);
+        candidates = ws->grid_candidates;
       }
-      ws->record_lambda[slot] = lambda;
-      ws->record_entering[slot] = side > 0 ? (R)1 : (R)-1;
-      ws->record_triangle[slot] = t;
-      ws->record_edge[slot] = e;
+      /* The candidates whose box meets the edge's, in their order, without a branch per candidate (four in five
+       * miss, unpredictably); then the tests on those. */
+      int *passing = ws->box_passing, num_passing = 0;
+      for (int n = 0; n < num_candidates; n++) {
+        int t = candidates[n];
+        passing[num_passing] = t;
+        num_passing += POLY_FN(boxes_overlap)(low, high, other_bounds + 6 * t);
+      }
+      for (int n = 0; n < num_passing; n++) {
+        int t = passing[n];
+        const int *tri = other->triangles + 3 * t;
+        const R *plane = other_planes + 4 * t;
+        R side0 = POLY_FN(plane_side)(p0, other_vertices, tri, plane);
+        R side1 = POLY_FN(plane_side)(p1, other_vertices, tri, plane);
+        if (tolerance > 0 && !*flush) {
+          /* |side| / |plane|_2 is the distance to the plane; |plane|_1 >= |plane|_2, so this only lets more
+           * edges on to triangles_flush, which decides as the reference path does. */
+          R reach = tolerance * POLY_FN(norm1)(plane);
+          if (fabs(side0) <= reach && fabs(side1) <= reach)
+            for (int j = 0; j < 2 && !*flush; j++) {
+              int m = mine->edge_triangles[2 * e + j];
+              const R *box_m = my_bounds + 6 * m, *box_t = other_bounds + 6 * t;
+              if (!POLY_FN(boxes_overlap)(box_m, box_m + 3, box_t)) continue;
+              *flush = !mine_is_b ? POLY_FN(triangles_flush)(my_vertices, mine->triangles + 3 * m, my_planes + 4 * m,
+                                                             my_normals + 3 * m, other_vertices, tri, plane,
+                                                             other_normals + 3 * t, tolerance)
+                                  : POLY_FN(triangles_flush)(other_vertices, tri, plane, other_normals + 3 * t,
+                                                             my_vertices, mine->triangles + 3 * m, my_planes + 4 * m,
+                                                             my_normals + 3 * m, tolerance);
+            }
+        }
+        int sign0 = POLY_FN(side_sign)(side0, mine_is_b, other_vertices, tri, plane);
+        int sign1 = POLY_FN(side_sign)(side1, mine_is_b, other_vertices, tri, plane);
+        if (sign0 == sign1) continue;
+        R lambda;
+        int side = POLY_FN(records_crossing_in_triangle)(p0, p1, mine_is_b, other_vertices, tri, side0, side1, sign0,
+                                                         &lambda);
+        if (!side) continue;
+        if (first + count >= ws->capacity_records) return -1;
+        /* Insertion sort: an edge crosses a handful of triangles. */
+        int slot = first + count++;
+        while (slot > first && ws->record_lambda[slot - 1] > lambda) {
+          ws->record_lambda[slot] = ws->record_lambda[slot - 1];
+          ws->record_entering[slot] = ws->record_entering[slot - 1];
+          ws->record_triangle[slot] = ws->record_triangle[slot - 1];
+          ws->record_edge[slot] = ws->record_edge[slot - 1];
+          slot--;
+        }
+        ws->record_lambda[slot] = lambda;
+        ws->record_entering[slot] = side > 0 ? (R)1 : (R)-1;
+        ws->record_triangle[slot] = t;
+        ws->record_edge[slot] = e;
+      }
+      *num_records = first + count;
+      int *run = runs + 3 * (*num_runs)++;
+      run[0] = e;
+      run[1] = first;
+      run[2] = count;
     }
-    *num_records = first + count;
-    int *run = runs + 3 * (*num_runs)++;
-    run[0] = e;
-    run[1] = first;
-    run[2] = count;
-  }
   return 0;
 }
 
@@ -464,16 +497,30 @@ POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va,
                                       POLY_FN(pass) *out)
 {
   if (a->num_edges + b->num_edges > ws->capacity_runs) return -1;
+  const int mask_words = POLY_EDGE_MASK_WORDS(ws->capacity_triangles);
+  if ((a->num_edges + 31) / 32 > mask_words || (b->num_edges + 31) / 32 > mask_words) return -1;
   int num_records = 0, num_runs_a = 0, num_runs_b = 0, flush = 0;
+  /* Every crossing, and every flush pair of faces (found through the same box tests), lies in both bodies' boxes
+   * of kept triangles: an edge of one in the slab is in its kept triangles' box. So the crossings need only the
+   * triangles whose box meets the common part (rocks resting on each other: about a third of the kept ones). */
+  R near_box[6];
+  for (int k = 0; k < 3; k++) {
+    near_box[k] = f->box_a_low[k] > f->box_b_low[k] ? f->box_a_low[k] : f->box_b_low[k];
+    near_box[3 + k] = f->box_a_high[k] < f->box_b_high[k] ? f->box_a_high[k] : f->box_b_high[k];
+  }
+  int num_near_a = POLY_FN(near_triangles)(ws->bounds_a, ws->kept_list_a, f->num_kept_a, near_box, ws->near_list_a);
+  int num_near_b = POLY_FN(near_triangles)(ws->bounds_b, ws->kept_list_b, f->num_kept_b, near_box, ws->near_list_b);
   int *runs_a = ws->runs;
-  if (POLY_FN(find_crossings)(a, va, ws->along_a, ws->planes_a, ws->bounds_a, a->face_normals, 0, b, vb,
-                              ws->planes_b, ws->bounds_b, ws->normals_b, ws->kept_list_b, f->num_kept_b,
-                              f->limit_a, f->tolerance, ws, &num_records, runs_a, &num_runs_a, &flush))
+  if (POLY_FN(find_crossings)(a, va, ws->along_a, ws->planes_a, ws->bounds_a, a->face_normals, 0, ws->kept_list_a,
+                              f->num_kept_a, b, vb,
+                              ws->planes_b, ws->bounds_b, ws->normals_b, ws->near_list_b, num_near_b, f->limit_a,
+                              near_box, f->tolerance, ws, &num_records, runs_a, &num_runs_a, &flush))
     return -1;
   int records_b = num_records, *runs_b = runs_a + 3 * num_runs_a;
-  if (POLY_FN(find_crossings)(b, vb, ws->along_b, ws->planes_b, ws->bounds_b, ws->normals_b, 1, a, va,
-                              ws->planes_a, ws->bounds_a, a->face_normals, ws->kept_list_a, f->num_kept_a,
-                              f->limit_b, f->tolerance, ws, &num_records, runs_b, &num_runs_b, &flush))
+  if (POLY_FN(find_crossings)(b, vb, ws->along_b, ws->planes_b, ws->bounds_b, ws->normals_b, 1, ws->kept_list_b,
+                              f->num_kept_b, a, va,
+                              ws->planes_a, ws->bounds_a, a->face_normals, ws->near_list_a, num_near_a, f->limit_b,
+                              near_box, f->tolerance, ws, &num_records, runs_b, &num_runs_b, &flush))
     return -1;
   int num_points = 0, inconsistent = 0;
   POLY_FN(settle_inside)(a, va, ws->along_a, 0, f->limit_a, f->box_b_low, f->box_b_high, runs_a, num_runs_a,

@@ -808,10 +808,31 @@ static void poly_align_degenerate_axes(const double moments[3], double axes[9])
 }
 
 /* Moves the scaled file-frame mesh into the body frame and hands all arrays to `shape`. */
+/* Each triangle's three edges (corners 0-1, 1-2, 2-0), from the edges' triangle pairs. */
+static void poly_build_triangle_edges(const poly_build *b, int *triangle_edges)
+{
+  for (int e = 0; e < b->num_edges; e++)
+    for (int j = 0; j < 2; j++) {
+      const int t = b->edge_triangles[2 * e + j], *tri = b->triangles + 3 * t;
+      for (int k = 0; k < 3; k++) {
+        const int from = tri[k], to = tri[k == 2 ? 0 : k + 1];
+        if ((from == b->edges[2 * e] && to == b->edges[2 * e + 1]) ||
+            (to == b->edges[2 * e] && from == b->edges[2 * e + 1]))
+          triangle_edges[3 * t + k] = e;
+      }
+    }
+}
+
 static poly_status poly_build_finish(poly_build *b, const poly_mass_properties *mass, poly_shape *shape)
 {
   double *normals = (double *)malloc(sizeof(double) * 3 * (size_t)b->num_triangles);
-  if (!normals) return poly_build_out_of_memory(b);
+  int *triangle_edges = (int *)malloc(sizeof(int) * 3 * (size_t)b->num_triangles);
+  if (!normals || !triangle_edges) {
+    free(normals);
+    free(triangle_edges);
+    return poly_build_out_of_memory(b);
+  }
+  poly_build_triangle_edges(b, triangle_edges);
   double moments[3], axes[9];
   poly_symmetric_eigen3(mass->inertia, moments, axes);
   poly_align_degenerate_axes(moments, axes);
@@ -840,6 +861,7 @@ static poly_status poly_build_finish(poly_build *b, const poly_mass_properties *
   shape->face_normals = normals;
   shape->edges = b->edges;
   shape->edge_triangles = b->edge_triangles;
+  shape->triangle_edges = triangle_edges;
   shape->vertex_triangle_offsets = b->vertex_offsets;
   shape->vertex_triangles = b->vertex_triangles;
   shape->volume = mass->volume;
@@ -984,6 +1006,7 @@ void poly_shape_free(poly_shape *shape)
   free(shape->face_normals);
   free(shape->edges);
   free(shape->edge_triangles);
+  free(shape->triangle_edges);
   free(shape->vertex_triangle_offsets);
   free(shape->vertex_triangles);
   poly_shape_free_faces(shape);

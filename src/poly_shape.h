@@ -61,6 +61,7 @@ typedef struct poly_shape {
   double *face_normals;          /* 3 * num_triangles, unit outward */
   int *edges;                    /* 2 * num_edges, first index < second */
   int *edge_triangles;           /* 2 * num_edges: the two triangles sharing the edge */
+  int *triangle_edges;           /* 3 * num_triangles: the edges of corners 0-1, 1-2 and 2-0 */
   int *vertex_triangle_offsets;  /* num_vertices + 1, CSR into vertex_triangles */
   int *vertex_triangles;         /* 3 * num_triangles entries */
 
