@@ -125,7 +125,8 @@ typedef struct poly_overlap_result {
     int *faces_a, *faces_b, *face_column_a, *face_column_b; /* its faces, and their columns per face */ \
     int *row_of_a, *row_of_b;          /* per vertex: its row of the side table, -1 before it is made */ \
     int capacity_grid;                 /* entries of the grid of kept triangles (find_crossings) */    \
-    int *grid_start, *grid_entries, *grid_stamps, *grid_candidates; /* cells; their triangles; per triangle */ \
+    int *grid_start, *grid_entries, *grid_candidates; /* cells; their triangles; an edge's candidates */ \
+    unsigned *grid_bits;               /* find_crossings: a bit per triangle, the candidates of an edge */ \
     int *box_passing;                  /* find_crossings: an edge's candidates whose box meets its own */ \
     int *near_list_a, *near_list_b;    /* records path: the kept triangles whose box meets both bodies' boxes */ \
     unsigned *edge_mask;               /* find_crossings: a bit per edge of a kept triangle */          \
@@ -138,6 +139,7 @@ typedef struct poly_overlap_result {
     unsigned char *kept_a, *kept_b;    /* triangles that survive the half-space filter */           \
     int *kept_list_a, *kept_list_b;    /* their indices, so no loop visits the others */            \
     unsigned char *inside_a, *inside_b;/* vertex of A inside B, and vice versa */                   \
+    unsigned char *in_slab_a, *in_slab_b; /* per vertex: it reaches the slab (host: records path) */ \
     REAL *crossings;                   /* along one edge: parameters, then directions; 2 * capacity_triangles */ \
     REAL *points;                      /* intersection nodes, 3 * capacity_points */                \
     int num_points;                    /* of the last overlap (may exceed capacity_points) */        \

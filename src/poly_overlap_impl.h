@@ -157,7 +157,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   size_t nmask = POLY_OVERLAP_RECORDS ? POLY_EDGE_MASK_WORDS(nt) : 0;
   size_t ints = 2 * nt + 2 * nnear + nmask + 2 * nr + 3 * nruns + nbuckets + 4 * nr + 4 * nfaces + 2 * nrows + ncells +
                 nentries + 3 * ngrid;
-  size_t bytes = sizeof(R) * reals + sizeof(int) * ints + 2 * nt + 2 * nv;
+  size_t bytes = sizeof(R) * reals + sizeof(int) * ints + 2 * nt + 2 * nv + 2 * nalong;
   if (!ws || !memory) return bytes;
   R *r = (R *)memory;
   ws->vertices_a = r; r += 3 * nv;
@@ -192,7 +192,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->row_of_b = n; n += nrows;
   ws->grid_start = n; n += ncells;
   ws->grid_entries = n; n += nentries;
-  ws->grid_stamps = n; n += ngrid;
+  ws->grid_bits = (unsigned *)n; n += ngrid;
   ws->grid_candidates = n; n += ngrid;
   ws->box_passing = n; n += ngrid;
   ws->near_list_a = n; n += nnear;
@@ -202,7 +202,9 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->kept_a = c; c += nt;
   ws->kept_b = c; c += nt;
   ws->inside_a = c; c += nv;
-  ws->inside_b = c;
+  ws->inside_b = c; c += nv;
+  ws->in_slab_a = c; c += nalong;
+  ws->in_slab_b = c;
   ws->capacity_vertices = (int)nv;
   ws->capacity_triangles = (int)nt;
   ws->capacity_points = (int)np;
@@ -429,19 +431,26 @@ POLY_INLINE void POLY_FN(triangle_bounds)(const R *vertices, const int *tri, R *
 /* The triangles of `body` that reach into the slab (A's: a corner at or beyond `limit` along the axis; B's,
  * `below`: a corner at or below it), into `kept_list` in order without a branch per triangle (whether one reaches
  * it is unpredictable), `kept` set per triangle and their apexes reset. `along`: the vertices' places along the
- * axis, or NULL to project `vertices` on `axis`. Returns how many are kept. */
+ * axis, or NULL to project `vertices` on `axis`; `in_slab`: per vertex whether it reaches the slab (the same
+ * comparison with `limit`), or NULL. Returns how many are kept. */
 POLY_INLINE int POLY_FN(keep_in_slab)(const POLY_FN(shape_view) *body, const R *vertices, const R *along,
-                                      const R *axis, R limit, int below, unsigned char *kept, R *apex, int *kept_list)
+                                      const unsigned char *in_slab, const R *axis, R limit, int below,
+                                      unsigned char *kept, R *apex, int *kept_list)
 {
   int count = 0;
   for (int t = 0; t < body->num_triangles; t++) {
     const int *tri = body->triangles + 3 * t;
-    R reach = below ? (R)1e30 : -(R)1e30;
-    for (int k = 0; k < 3; k++) {
-      R x = along ? along[tri[k]] : POLY_FN(dot)(vertices + 3 * tri[k], axis);
-      if (below ? x < reach : x > reach) reach = x;
+    int in;
+    if (in_slab) {
+      in = in_slab[tri[0]] | in_slab[tri[1]] | in_slab[tri[2]];
+    } else {
+      R reach = below ? (R)1e30 : -(R)1e30;
+      for (int k = 0; k < 3; k++) {
+        R x = along ? along[tri[k]] : POLY_FN(dot)(vertices + 3 * tri[k], axis);
+        if (below ? x < reach : x > reach) reach = x;
+      }
+      in = below ? reach <= limit : reach >= limit;
     }
-    const int in = below ? reach <= limit : reach >= limit;
     kept[t] = (unsigned char)in;
     apex[3 * t] = POLY_NO_APEX;
     kept_list[count] = t;
@@ -685,17 +694,27 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   R box_a_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_a_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
   R box_b_low[3] = {(R)1e30, (R)1e30, (R)1e30}, box_b_high[3] = {(R)-1e30, (R)-1e30, (R)-1e30};
   const R *along_a = NULL, *along_b = NULL;
+  const unsigned char *in_slab_a = NULL, *in_slab_b = NULL;
 #if POLY_OVERLAP_RECORDS
   /* Each vertex's place along the axis once, for the filter, the crossings' slab and the inside states (a vertex
-   * is in about six edges and six triangles: rock_1000's pairs spent a tenth of their time on these products). */
-  for (int i = 0; i < a->num_vertices; i++) ws->along_a[i] = POLY_FN(dot)(va + 3 * i, axis);
-  for (int j = 0; j < b->num_vertices; j++) ws->along_b[j] = POLY_FN(dot)(vb + 3 * j, axis);
+   * is in about six edges and six triangles: rock_1000's pairs spent a tenth of their time on these products),
+   * and whether it reaches the slab, for the filter's triangles. */
+  for (int i = 0; i < a->num_vertices; i++) {
+    ws->along_a[i] = POLY_FN(dot)(va + 3 * i, axis);
+    ws->in_slab_a[i] = (unsigned char)(ws->along_a[i] >= limit_a);
+  }
+  for (int j = 0; j < b->num_vertices; j++) {
+    ws->along_b[j] = POLY_FN(dot)(vb + 3 * j, axis);
+    ws->in_slab_b[j] = (unsigned char)(ws->along_b[j] <= limit_b);
+  }
   along_a = ws->along_a;
   along_b = ws->along_b;
+  in_slab_a = ws->in_slab_a;
+  in_slab_b = ws->in_slab_b;
 #endif
-  const int num_kept_a = POLY_FN(keep_in_slab)(a, va, along_a, axis, limit_a, 0, ws->kept_a, ws->apex_a,
+  const int num_kept_a = POLY_FN(keep_in_slab)(a, va, along_a, in_slab_a, axis, limit_a, 0, ws->kept_a, ws->apex_a,
                                                ws->kept_list_a);
-  const int num_kept_b = POLY_FN(keep_in_slab)(b, vb, along_b, axis, limit_b, 1, ws->kept_b, ws->apex_b,
+  const int num_kept_b = POLY_FN(keep_in_slab)(b, vb, along_b, in_slab_b, axis, limit_b, 1, ws->kept_b, ws->apex_b,
                                                ws->kept_list_b);
   for (int n = 0; n < num_kept_a; n++) {
     const int t = ws->kept_list_a[n];

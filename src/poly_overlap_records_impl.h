@@ -50,7 +50,7 @@ POLY_INLINE void POLY_FN(grid_range)(const POLY_FN(grid) *g, const R *low, const
 }
 
 /* Builds the grid of `kept_list`'s triangles (cell c lists ws->grid_entries
- * [grid_start[c], grid_start[c + 1])) and clears their stamps; 0, or -1 when
+ * [grid_start[c], grid_start[c + 1])) and clears their bits; 0, or -1 when
  * it does not fit the workspace. */
 POLY_INLINE int POLY_FN(grid_build)(POLY_FN(overlap_workspace) *ws, const R *bounds, const int *kept_list, int num_kept,
                                     POLY_FN(grid) *g)
@@ -62,7 +62,7 @@ POLY_INLINE int POLY_FN(grid_build)(POLY_FN(overlap_workspace) *ws, const R *bou
   }
   for (int n = 0; n < num_kept; n++) {
     const R *box = bounds + 6 * kept_list[n];
-    ws->grid_stamps[kept_list[n]] = -1;
+    ws->grid_bits[kept_list[n] >> 5] = 0;
     for (int k = 0; k < 3; k++) {
       if (box[k] < g->low[k]) g->low[k] = box[k];
       if (box[3 + k] > high[k]) high[k] = box[3 + k];
@@ -98,28 +98,31 @@ POLY_INLINE int POLY_FN(grid_build)(POLY_FN(overlap_workspace) *ws, const R *bou
 }
 
 /* The kept triangles whose cells the box [low, high] touches, once each and in
- * ascending order (the plain loop's), into ws->grid_candidates; returns how many. */
+ * ascending order (the plain loop's), into ws->grid_candidates; returns how many.
+ * A bit per triangle (ws->grid_bits, cleared by grid_build and after each
+ * call) rather than sorting them: an edge's cells list a triangle several times,
+ * in no common order. */
 POLY_INLINE int POLY_FN(grid_candidates)(const POLY_FN(grid) *g, POLY_FN(overlap_workspace) *ws, const R *low,
-                                         const R *high, int stamp)
+                                         const R *high)
 {
-  int from[3], to[3], count = 0, side = g->side, *found = ws->grid_candidates;
+  int from[3], to[3], count = 0, side = g->side, *found = ws->grid_candidates, first = 1 << 30, last = -1;
+  unsigned *bits = ws->grid_bits;
   POLY_FN(grid_range)(g, low, high, from, to);
   for (int i = from[0]; i <= to[0]; i++)
     for (int j = from[1]; j <= to[1]; j++)
       for (int l = from[2]; l <= to[2]; l++) {
         int c = (i * side + j) * side + l;
         for (int m = ws->grid_start[c]; m < ws->grid_start[c + 1]; m++) {
-          int t = ws->grid_entries[m];
-          if (ws->grid_stamps[t] == stamp) continue;
-          ws->grid_stamps[t] = stamp;
-          int slot = count++;
-          while (slot > 0 && found[slot - 1] > t) {
-            found[slot] = found[slot - 1];
-            slot--;
-          }
-          found[slot] = t;
+          int t = ws->grid_entries[m], w = t >> 5;
+          bits[w] |= 1u << (t & 31);
+          first = w < first ? w : first;
+          last = w > last ? w : last;
         }
       }
+  for (int w = first; w <= last; w++) {
+    for (unsigned b = bits[w]; b; b &= b - 1) found[count++] = 32 * w + poly_clip_lowest_bit(b);
+    bits[w] = 0;
+  }
   return count;
 }
 
@@ -222,7 +225,7 @@ POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R
       const int *candidates = other_kept_list;
       int num_candidates = other_num_kept;
       if (gridded) {
-        num_candidates = POLY_FN(grid_candidates)(&grid, ws, low, high, e);
+        num_candidates = POLY_FN(grid_candidates)(&grid, ws, low, high);
         candidates = ws->grid_candidates;
       }
       /* The candidates whose box meets the edge's, in their order, without a branch per candidate (four in five

@@ -24,7 +24,7 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHAPES = os.path.join(ROOT, "examples", "shapes")
 SHAPE_FILES = ["cube.stl", "schoenhardt.stl", "tetrahedron.obj", "box_1x2x3.off", "rock_10.obj", "rock_40.obj",
-               "icosphere_80.off"]
+               "icosphere_80.off", "rock_1000.obj"]
 QUANTITIES = ["volume", "centroid", "normal", "area", "depth", "second_moment"]
 
 
