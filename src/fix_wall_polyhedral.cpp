@@ -195,6 +195,7 @@ FixWallPolyhedral::~FixWallPolyhedral()
   for (size_t m = 0; m < back_shells.size(); m++) poly_mesh_shell_free(&back_shells[m]);
   for (size_t m = 0; m < orientations.size(); m++) poly_mesh_orientation_free(&orientations[m]);
   if (have_workspace) poly_overlap_workspace_destroy_d(&workspace);
+  free_wall_views();
 }
 
 // The per-atom tangential springs (one per wall), migrating and restarting with the atoms;
@@ -278,6 +279,7 @@ void FixWallPolyhedral::init()
   if (poly_overlap_workspace_create_d(&workspace, max_vertices, max_triangles) != 0)
     error->one(FLERR, "Fix wall/polyhedral: out of memory for the overlap workspace");
   have_workspace = true;
+  build_wall_views();
   if (!shells.empty() && shells[0].thickness != shell_thickness) {
     for (size_t m = 0; m < shells.size(); m++) poly_mesh_shell_free(&shells[m]);
     for (size_t m = 0; m < back_shells.size(); m++) poly_mesh_shell_free(&back_shells[m]);
@@ -287,6 +289,34 @@ void FixWallPolyhedral::init()
     orientations.clear();
   }
   if (shells.empty()) build_shells();
+}
+
+void FixWallPolyhedral::build_wall_views()
+{
+  const int count = FixParticletemplatePolyhedron::count(lmp);
+  for (size_t s = count + 1; s < wall_shapes.size(); s++) poly_shape_free_wall_pieces(&wall_shapes[s]);
+  poly_shape empty;
+  memset(&empty, 0, sizeof empty);
+  wall_shapes.resize(count + 1, empty);
+  wall_sources.resize(count + 1, NULL);
+  wall_views.assign(count + 1, pair->shape_view(0));
+  for (int s = 1; s <= count; s++) {
+    const poly_shape *shape = &FixParticletemplatePolyhedron::find(lmp, s)->shape();
+    if (wall_sources[s] != shape) {
+      poly_shape_free_wall_pieces(&wall_shapes[s]);
+      poly_shape_wall_pieces(shape, &wall_shapes[s]);
+      wall_sources[s] = shape;
+    }
+    wall_views[s] = wall_shapes[s].num_clip_pieces > 1 ? poly_shape_view_of(&wall_shapes[s]) : pair->shape_view(s);
+  }
+}
+
+void FixWallPolyhedral::free_wall_views()
+{
+  for (size_t s = 0; s < wall_shapes.size(); s++) poly_shape_free_wall_pieces(&wall_shapes[s]);
+  wall_shapes.clear();
+  wall_sources.clear();
+  wall_views.clear();
 }
 
 // Every rank builds the shell of every mesh from all its triangles, once: the

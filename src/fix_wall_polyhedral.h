@@ -106,6 +106,14 @@ class FixWallPolyhedral : public Fix {
   int closed_particles;      // closed_side: 0 auto (per particle), 1 inside, -1 outside
   poly_overlap_workspace_d workspace;
   bool have_workspace;
+  // Per shape number the view the mesh walls clip prisms with on the host: the pair style's, or for a shape whose
+  // own pieces are cones (rock_40) the pieces of poly_shape_wall_pieces, kept in wall_shapes (made from the
+  // template's shape in wall_sources, again only when that changes).
+  std::vector<poly_shape> wall_shapes;
+  std::vector<const poly_shape *> wall_sources;
+  std::vector<poly_shape_view_d> wall_views;
+  void build_wall_views();
+  void free_wall_views();
   // A (particle, prism) pair whose bounding spheres touch, before its overlap is known.
   struct MeshCandidate {
     int particle, triangle, prism;        // local atom, local triangle, slot in `prisms`

@@ -320,13 +320,14 @@ void FixWallPolyhedral::compute_overlaps()
   for (size_t c = 0; c < count; c++) {
     int i = candidates[c].particle;
     poly_mesh_prism &prism = prisms[candidates[c].prism];
-    const poly_shape_view_d *prism_view = poly_mesh_prism_view(&prism, &pair->shape_view(shapetype[i]));
+    const poly_shape_view_d &particle_view = wall_views[shapetype[i]];  // the walls' pieces (build_wall_views)
+    const poly_shape_view_d *prism_view = poly_mesh_prism_view(&prism, &particle_view);
     poly_pose prism_pose = {{prism.origin[0], prism.origin[1], prism.origin[2]}, {1.0, 0.0, 0.0, 0.0}};
     poly_pose particle_pose = {{x[i][0], x[i][1], x[i][2]},
                                {quaternion[i][0], quaternion[i][1], quaternion[i][2], quaternion[i][3]}};
     workspace.want_second_moment = use_rocking;
     workspace.want_nodes = 1;  // the pieces' corners, for the contact's depth (poly_mesh_contact_combine)
-    poly_overlap_d(&pair->shape_view(shapetype[i]), &particle_pose, prism_view, &prism_pose, &workspace,
+    poly_overlap_d(&particle_view, &particle_pose, prism_view, &prism_pose, &workspace,
                    &overlaps[c]);
     int n = poly_overlap_num_nodes_d(&workspace);
     if (!(overlaps[c].volume > 0.0) || n < 0) continue;

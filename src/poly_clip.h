@@ -95,6 +95,7 @@ typedef struct poly_clip_faces {
   const int *plane_support;
   poly_clip_words support_planes;
   const int *face_plane;  /* per face the index of its plane among `planes` (pieces only; NULL: not known) */
+  int many_faces;         /* 1: the host takes these pieces whatever their faces (the mesh walls' pieces) */
 } poly_clip_faces;
 
 /* What the clipping gives, in A's body frame (the caller turns it to world). */
@@ -675,11 +676,11 @@ POLY_INLINE int poly_clip_convex_overlap(const poly_clip_faces *a, const poly_cl
 }
 
 /* Does the host's clipping path take this shape: clip faces, no more planes than the masks hold, and (pieces) no
- * more faces than POLY_CLIP_HOST_PIECE_FACES? */
+ * more faces than POLY_CLIP_HOST_PIECE_FACES, unless they are the mesh walls' pieces (poly_shape_wall_pieces)? */
 POLY_INLINE int poly_clip_takes(const poly_clip_faces *faces)
 {
   return faces->num_faces > 0 && faces->num_planes <= POLY_CLIP_MAX_SHAPE_PLANES &&
-         (faces->num_pieces == 1 || faces->num_faces <= POLY_CLIP_HOST_PIECE_FACES);
+         (faces->num_pieces == 1 || faces->num_faces <= POLY_CLIP_HOST_PIECE_FACES || faces->many_faces);
 }
 
 /* poly_clip_overlap; with `pieces` 0 (a constant, so that a GPU kernel for convex shapes carries no stack for

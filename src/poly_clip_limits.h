@@ -9,11 +9,20 @@
 #define POLY_CLIP_MAX_PIECES 32    /* convex pieces of a shape that is not convex */
 #define POLY_CLIP_SHAPE_PLANES 128  /* planes of all the pieces of a shape (a bit each in a stored mask) */
 #define POLY_CLIP_MAX_LOOP 16      /* corners of one face */
-/* Planes of one piece of a shape that is not convex: a triangle clipped by a piece of more planes can outgrow the
- * GPU warp kernel's 12-corner polygons (rock_40's partition has a piece of 30, which a trial build handed mostly to
- * the one-thread kernel; its cones' pieces have at most 8: doc/benchmarks.md). */
-#ifndef POLY_CLIP_MAX_PIECE_PLANES
-#define POLY_CLIP_MAX_PIECE_PLANES 16
+/* Planes of one piece of a shape that is not convex. A shape's own pieces have at most POLY_CLIP_PIECE_PLANES: a
+ * triangle clipped by a piece of more planes can outgrow the GPU warp kernel's 12-corner polygons (rock_40's
+ * partition has a piece of 30, which a trial build handed mostly to the one-thread kernel; its cones' pieces have at
+ * most 8: doc/benchmarks.md). The pieces the host's mesh walls take instead of cones (poly_shape_wall_pieces) have
+ * up to POLY_CLIP_WALL_PIECE_PLANES: against a prism, rock_40's partition clips 1.6x faster than its general path
+ * does. POLY_CLIP_MAX_PIECE_PLANES sizes the buffers (the GPU's for its own pieces only). */
+#ifndef POLY_CLIP_PIECE_PLANES
+#define POLY_CLIP_PIECE_PLANES 16
+#endif
+#define POLY_CLIP_WALL_PIECE_PLANES 32
+#ifdef __CUDACC__
+#define POLY_CLIP_MAX_PIECE_PLANES POLY_CLIP_PIECE_PLANES
+#else
+#define POLY_CLIP_MAX_PIECE_PLANES POLY_CLIP_WALL_PIECE_PLANES
 #endif
 #define POLY_CLIP_MAX_POLYGON (POLY_CLIP_MAX_LOOP + POLY_CLIP_MAX_PIECE_PLANES)
 #define POLY_CLIP_MAX_POLYGONS 64  /* clipped polygons of one pair */

@@ -269,7 +269,8 @@ static poly_status find_pieces(poly_shape *shape)
   const int nt = shape->num_triangles, nv = shape->num_vertices, ne = shape->num_edges;
   const double radius = shape->bounding_radius, tolerance = 1e-12 * radius;
   const char *by_cones = getenv("POLY_PIECES_BY_CONES");  /* 0 or 1 (poly_shape_build checks it) */
-  if (!(by_cones && strcmp(by_cones, "1") == 0) && partition_pieces(shape)) return find_plane_support(shape, 1);
+  if (!(by_cones && strcmp(by_cones, "1") == 0) && partition_pieces(shape, POLY_CLIP_PIECE_PLANES))
+    return find_plane_support(shape, 1);
   if (nt > POLY_CLIP_MAX_FACES || nv >= POLY_CLIP_MAX_VERTICES) return POLY_OK;
   for (int t = 0; t < nt; t++) {
     const double *n = shape->face_normals + 3 * t, *corner = shape->vertices + 3 * shape->triangles[3 * t];
@@ -403,6 +404,44 @@ static poly_status find_pieces(poly_shape *shape)
   free(in_patch);
   free(seen);
   return status;
+}
+
+int poly_shape_wall_pieces(const poly_shape *shape, poly_shape *wall)
+{
+  memset(wall, 0, sizeof *wall);
+  /* Convex shapes and those with pieces by the partition have theirs already; cones, or none, may gain. */
+  if (shape->face_of || (shape->num_clip_pieces > 1 && shape->clip_vertices) || shape->num_support == 0) return 0;
+  *wall = *shape;  /* the geometry borrowed; what poly_shape_find_faces makes, the wall's own */
+  wall->face_of = wall->ridges = NULL;
+  wall->num_ridges = 0;
+  wall->clip_planes = NULL;
+  wall->clip_loop_start = wall->clip_loop = wall->clip_face_triangle = NULL;
+  wall->clip_piece_front = wall->clip_piece_back = NULL;
+  wall->clip_piece_point_start = wall->clip_piece_points = wall->clip_piece_face_start = wall->clip_piece_faces = NULL;
+  wall->clip_vertices = NULL;
+  wall->clip_plane_support = wall->clip_face_plane = NULL;
+  wall->clip_support_planes.low = wall->clip_support_planes.high = 0ull;
+  wall->num_clip_faces = wall->num_clip_planes = wall->num_clip_pieces = wall->num_clip_vertices = 0;
+  wall->clip_many_faces = 0;
+  wall->support = (int *)malloc(sizeof(int) * (size_t)shape->num_support);
+  if (!wall->support) {
+    memset(wall, 0, sizeof *wall);
+    return 0;
+  }
+  memcpy(wall->support, shape->support, sizeof(int) * (size_t)shape->num_support);
+  if (!partition_pieces(wall, POLY_CLIP_WALL_PIECE_PLANES) || find_plane_support(wall, 1) != POLY_OK ||
+      wall->num_clip_planes > POLY_CLIP_MAX_SHAPE_PLANES) {
+    poly_shape_free_wall_pieces(wall);
+    return 0;
+  }
+  wall->clip_many_faces = 1;
+  return 1;
+}
+
+void poly_shape_free_wall_pieces(poly_shape *wall)
+{
+  poly_shape_free_faces(wall);  /* the geometry is the shape's */
+  memset(wall, 0, sizeof *wall);
 }
 
 void poly_shape_free_faces(poly_shape *shape)

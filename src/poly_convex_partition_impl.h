@@ -39,6 +39,7 @@ typedef struct partition {
   double *points;
   int num_points;
   int num_pieces, num_cells, failed;
+  int max_piece_planes; /* at most POLY_CLIP_MAX_PIECE_PLANES */
   int piece_planes[POLY_CLIP_MAX_PIECES][POLY_CLIP_MAX_PIECE_PLANES];
   int piece_behind[POLY_CLIP_MAX_PIECES][POLY_CLIP_MAX_PIECE_PLANES];
   int piece_num_planes[POLY_CLIP_MAX_PIECES];
@@ -199,7 +200,7 @@ static int partition_points(partition *p, const double *x, int count, int *index
  * volume they enclose. */
 static void partition_add_piece(partition *p, const partition_cell *facets, const double *vertices, int count)
 {
-  if (p->num_pieces == POLY_CLIP_MAX_PIECES || facets->count > POLY_CLIP_MAX_PIECE_PLANES) {
+  if (p->num_pieces == POLY_CLIP_MAX_PIECES || facets->count > p->max_piece_planes) {
     p->failed = 1;
     return;
   }
@@ -329,7 +330,7 @@ static void partition_split(partition *p, const partition_cell *cell, const int 
 
 /* The partition's pieces into the shape (the fields poly_convex.c's cones fill, and the clip vertices); returns
  * 0, leaving the shape as it was, when it does not give pieces the clipping path takes. */
-static int partition_pieces(poly_shape *shape)
+static int partition_pieces(poly_shape *shape, int max_piece_planes)
 {
   const int nt = shape->num_triangles, nv = shape->num_vertices;
   const double radius = shape->bounding_radius;
@@ -337,6 +338,7 @@ static int partition_pieces(poly_shape *shape)
   partition p;
   memset(&p, 0, sizeof p);
   p.shape = shape;
+  p.max_piece_planes = max_piece_planes < POLY_CLIP_MAX_PIECE_PLANES ? max_piece_planes : POLY_CLIP_MAX_PIECE_PLANES;
   p.tolerance = 1e-12 * radius;
   p.planes = (double *)malloc(sizeof(double) * 4 * (size_t)(nt + 6));
   p.triangle_plane = (int *)malloc(sizeof(int) * (size_t)nt);

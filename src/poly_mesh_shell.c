@@ -513,6 +513,7 @@ static void prism_bind_clip(poly_mesh_prism *prism, int num_faces)
   for (int k = 0; k < prism->clip_num_planes; k++)
     if (prism->clip_plane_support[k] >= 0) clip->support_planes.low |= 1ull << k;
   clip->face_plane = prism->clip_face_plane;
+  clip->many_faces = 0;
 }
 
 /* A convex prism's faces as the clipping path takes them (as poly_convex.c's find_clip_faces does for a shape):

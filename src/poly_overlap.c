@@ -30,6 +30,7 @@ static poly_clip_faces clip_faces_of(const poly_shape *shape)
   clip.plane_support = shape->clip_plane_support;
   clip.support_planes = shape->clip_support_planes;
   clip.face_plane = shape->clip_face_plane;
+  clip.many_faces = shape->clip_many_faces;
   return clip;
 }
 

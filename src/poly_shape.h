@@ -113,6 +113,7 @@ typedef struct poly_shape {
   int *clip_plane_support;
   poly_clip_words clip_support_planes;
   int *clip_face_plane;  /* per clip face the index of its plane among clip_planes (pieces only) */
+  int clip_many_faces;   /* 1: the host clips these pieces whatever their faces (poly_shape_wall_pieces) */
 } poly_shape;
 
 /* The clipping path's points: the clip vertices where the pieces cut the triangles, else the vertices. */
@@ -160,6 +161,16 @@ poly_status poly_shape_find_faces(poly_shape *shape);
 
 /* Frees what poly_shape_find_faces made (poly_shape_free does this too). */
 void poly_shape_free_faces(poly_shape *shape);
+
+/* The convex pieces fix wall/polyhedral's mesh walls clip on the host, for a shape whose own are cones or none:
+ * the partition by its face planes (poly_convex_partition_impl.h) with pieces of up to POLY_CLIP_WALL_PIECE_PLANES
+ * planes, which a shape's own pieces may not have (the GPU's polygons), and any number of faces (for pairs of such
+ * shapes the general path is faster; against a prism of a few faces the clipping is: rock_40 1.6x). Fills `wall`
+ * with the shape's geometry, borrowed (it must outlive `wall`), and pieces of its own, and returns 1; returns 0
+ * and leaves `wall` empty when the shape has its own pieces, is convex, or the partition does not fit. Free with
+ * poly_shape_free_wall_pieces (either way). */
+int poly_shape_wall_pieces(const poly_shape *shape, poly_shape *wall);
+void poly_shape_free_wall_pieces(poly_shape *wall);
 
 void poly_shape_free(poly_shape *shape);
 

@@ -1,8 +1,9 @@
 """Mesh walls on the clipping path (src/poly_clip.h): a prism of a wall's shell has clip faces
 (src/poly_mesh_shell.c): a convex prism as one piece of its merged faces, one that is not (a twisted side quad folds
 inward for one of its two prisms, as over any curved or creased stretch of mesh) as the three tetrahedra of its
-split. So a particle with clip faces (convex, or in convex pieces: Schönhardt, rock_10) meets it by clipping, which
-keeps the intersection's corners for the contact's depth (ws.want_nodes, as fix wall/polyhedral asks).
+split. So a particle with clip faces (convex, or in convex pieces: Schönhardt, rock_10; rock_40 by the pieces the
+walls take instead of its cones, poly_shape_wall_pieces) meets it by clipping, which keeps the intersection's corners
+for the contact's depth (ws.want_nodes, as fix wall/polyhedral asks).
 tests/unit/wall_clip_paths.c combines each particle's pieces into its contact with the wall
 (poly_mesh_contact_combine) by that path and by the general path (ws.use_clip = 0) and prints the worst
 differences: volume, centroid and second moment relative to the particle (as tests/test_convex_path.py's clipping
@@ -47,7 +48,7 @@ def run(driver, shape, count, flat):
 
 
 @pytest.mark.parametrize("flat", [True, False], ids=["plane", "height-field"])
-@pytest.mark.parametrize("shape", ["schoenhardt.stl", "rock_10.obj", "cube.stl", "tetrahedron.obj"])
+@pytest.mark.parametrize("shape", ["schoenhardt.stl", "rock_10.obj", "cube.stl", "tetrahedron.obj", "rock_40.obj"])
 def test_clipped_wall_contacts_agree_with_the_general_path(driver, shape, flat):
     values, out = run(driver, shape, 300, flat)
     assert values["contacts"] >= 250, out
@@ -76,7 +77,8 @@ def test_splits_are_partitions(driver):
 
 
 def test_shapes_beyond_the_clipping_path_keep_the_general_path(driver):
-    """rock_40's pieces have more faces than the host's clipping path takes: its wall pieces are never offered."""
-    values, out = run(driver, "rock_40.obj", 20, True)
+    """rock_70's partition needs more planes (70) than the host's masks hold, and its cones more still: it has no
+    pieces, for pairs or for the walls (poly_shape_wall_pieces), and its wall pieces are never offered."""
+    values, out = run(driver, "rock_70.obj", 20, True)
     assert values["clip_offered"] == 0 and values["contacts"] >= 15, out
     assert all(values[quantity] == 0.0 for quantity in TOLERANCE), out

@@ -146,7 +146,9 @@ int main(int argc, char **argv)
     ws.want_second_moment = 1;
     ws.want_nodes = 1;
     double *nodes = malloc(sizeof(double) * 3 * (size_t)ws.capacity_corners);
-    poly_shape_view_d view = poly_shape_view_of(&shape);
+    poly_shape wall_pieces; /* the pieces the fix clips prisms with, as fix wall/polyhedral takes them */
+    const int has_wall_pieces = poly_shape_wall_pieces(&shape, &wall_pieces);
+    poly_shape_view_d view = poly_shape_view_of(has_wall_pieces ? &wall_pieces : &shape);
     double *timings = malloc(sizeof(double) * (size_t)repeats);
     int touching = 0;
     for (int r = 0; r < repeats; r++) {
@@ -179,6 +181,7 @@ int main(int argc, char **argv)
     free(usable);
     free(corners);
     poly_mesh_shell_free(&shell);
+    poly_shape_free_wall_pieces(&wall_pieces);
     poly_shape_free(&shape);
   }
   return 0;

@@ -176,7 +176,9 @@ int main(int argc, char **argv)
                                   shape.num_triangles > 8 ? shape.num_triangles : 8);
   ws.want_second_moment = 1;
   ws.want_nodes = 1;
-  const poly_shape_view_d view = poly_shape_view_of(&shape);
+  poly_shape wall_pieces;  /* as fix wall/polyhedral clips prisms: rock_40's partition instead of its cones */
+  const int has_wall_pieces = poly_shape_wall_pieces(&shape, &wall_pieces);
+  const poly_shape_view_d view = poly_shape_view_of(has_wall_pieces ? &wall_pieces : &shape);
   const int capacity = ws.capacity_corners;
   /* Per path: the pieces, and the nodes of each, laid end to end as the wall lays them. */
   poly_overlap_result *pieces[2];
@@ -272,6 +274,7 @@ int main(int argc, char **argv)
   free(usable);
   free(corners);
   poly_mesh_shell_free(&shell);
+  poly_shape_free_wall_pieces(&wall_pieces);
   poly_shape_free(&shape);
   return 0;
 }
