@@ -145,7 +145,10 @@ def test_chute_wear_gives_wear_and_stress_of_the_spheres_order(launcher, tmp_pat
     """chute_wear converted to rock_40, its first 30000 steps (the stream has reached the chute by then): the
     chute's own output (dump mesh/gran/VTK of fix mesh/surface/stress ... wear finnie) has a total wear and a
     summed normal stress within a factor 2 of the sphere run's, on a comparable number of triangles. Rocks of
-    the spheres' mass in the same stream load the chute alike; what differs is how they strike it."""
+    the spheres' mass in the same stream load the chute alike; what differs is how they strike it. The stress is
+    the mean over the dumps of the last 10000 steps (51): one dump's sum swings from 0 to 28000 between dumps 200
+    steps apart as single rocks strike, so that one dump's ratio was luck (two builds whose runs part only by
+    rounding after step 20000 gave 0.76 and 0.40 at step 30000, and 0.99 and 1.03 averaged)."""
     source = TUTORIALS / "chute_wear" / "in.chute_wear"
     if not source.exists():
         pytest.skip(f"{source} missing: install Debian's liggghts-doc (tools/debian_deps.sh)")
@@ -158,12 +161,14 @@ def test_chute_wear_gives_wear_and_stress_of_the_spheres_order(launcher, tmp_pat
         code, output = run(launcher, workdir, shorten(deck, 30000))
         assert code == 0 and "ERROR" not in output, output[-3000:]
         fields[kind] = mesh_fields(workdir / "post" / "mesh_30000.vtk")
+        late = [mesh_fields(workdir / "post" / f"mesh_{step}.vtk") for step in range(20000, 30001, 200)]
+        fields[kind]["stress_mean"] = sum(sum(f["normal_stress_average"]) for f in late) / len(late)
     rocks, spheres = fields["rocks"], fields["spheres"]
     wear = sum(rocks["wear"]), sum(spheres["wear"])
-    stress = sum(rocks["normal_stress_average"]), sum(spheres["normal_stress_average"])
+    stress = rocks["stress_mean"], spheres["stress_mean"]
     worn = sum(w > 0 for w in rocks["wear"]), sum(w > 0 for w in spheres["wear"])
     print(f"chute after 30000 steps: wear rocks {wear[0]:.4g} / spheres {wear[1]:.4g}, normal stress "
-          f"{stress[0]:.4g} / {stress[1]:.4g}, worn triangles {worn[0]} / {worn[1]}")
+          f"{stress[0]:.4g} / {stress[1]:.4g} (mean of the last 10000 steps), worn triangles {worn[0]} / {worn[1]}")
     assert wear[1] > 0 and 0.5 < wear[0] / wear[1] < 2.0
     assert stress[1] > 0 and 0.5 < stress[0] / stress[1] < 2.0
     assert 0.5 < worn[0] / worn[1] < 2.0
