@@ -406,29 +406,22 @@ static poly_status find_pieces(poly_shape *shape)
   return status;
 }
 
+static void forget_faces(poly_shape *shape);
+
 int poly_shape_wall_pieces(const poly_shape *shape, poly_shape *wall)
 {
   memset(wall, 0, sizeof *wall);
   /* Convex shapes and those with pieces by the partition have theirs already; cones, or none, may gain. */
   if (shape->face_of || (shape->num_clip_pieces > 1 && shape->clip_vertices) || shape->num_support == 0) return 0;
   *wall = *shape;  /* the geometry borrowed; what poly_shape_find_faces makes, the wall's own */
-  wall->face_of = wall->ridges = NULL;
-  wall->num_ridges = 0;
-  wall->clip_planes = NULL;
-  wall->clip_loop_start = wall->clip_loop = wall->clip_face_triangle = NULL;
-  wall->clip_piece_front = wall->clip_piece_back = NULL;
-  wall->clip_piece_point_start = wall->clip_piece_points = wall->clip_piece_face_start = wall->clip_piece_faces = NULL;
-  wall->clip_vertices = NULL;
-  wall->clip_plane_support = wall->clip_face_plane = NULL;
-  wall->clip_support_planes.low = wall->clip_support_planes.high = 0ull;
-  wall->num_clip_faces = wall->num_clip_planes = wall->num_clip_pieces = wall->num_clip_vertices = 0;
-  wall->clip_many_faces = 0;
+  forget_faces(wall);
   wall->support = (int *)malloc(sizeof(int) * (size_t)shape->num_support);
   if (!wall->support) {
     memset(wall, 0, sizeof *wall);
     return 0;
   }
   memcpy(wall->support, shape->support, sizeof(int) * (size_t)shape->num_support);
+  wall->num_support = shape->num_support;
   if (!partition_pieces(wall, POLY_CLIP_WALL_PIECE_PLANES) || find_plane_support(wall, 1) != POLY_OK ||
       wall->num_clip_planes > POLY_CLIP_MAX_SHAPE_PLANES) {
     poly_shape_free_wall_pieces(wall);
@@ -462,6 +455,12 @@ void poly_shape_free_faces(poly_shape *shape)
   free(shape->clip_vertices);
   free(shape->clip_plane_support);
   free(shape->clip_face_plane);
+  forget_faces(shape);
+}
+
+/* Leaves `shape` without what poly_shape_find_faces makes, freeing nothing. */
+static void forget_faces(poly_shape *shape)
+{
   shape->clip_plane_support = NULL;
   shape->clip_face_plane = NULL;
   shape->clip_support_planes.low = shape->clip_support_planes.high = 0ull;
@@ -473,6 +472,7 @@ void poly_shape_free_faces(poly_shape *shape)
   shape->clip_piece_front = shape->clip_piece_back = NULL;
   shape->clip_piece_point_start = shape->clip_piece_points = shape->clip_piece_face_start = shape->clip_piece_faces = NULL;
   shape->num_ridges = shape->num_support = shape->num_clip_faces = shape->num_clip_planes = shape->num_clip_pieces = 0;
+  shape->clip_many_faces = 0;
 }
 
 poly_status poly_shape_find_faces(poly_shape *shape)

@@ -126,16 +126,16 @@ POLY_INLINE int POLY_FN(grid_candidates)(const POLY_FN(grid) *g, POLY_FN(overlap
   return count;
 }
 
-/* The triangles of `kept_list` whose box meets `box` (low xyz, high xyz), in its order and without a branch per
- * triangle, into `near_list`; returns how many. */
-POLY_INLINE int POLY_FN(near_triangles)(const R *bounds, const int *kept_list, int num_kept, const R *box,
-                                        int *near_list)
+/* The triangles of `kept_list` whose box meets [low, high], in its order and without a branch per triangle (most
+ * miss, unpredictably), into `near_list`; returns how many. */
+POLY_INLINE int POLY_FN(near_triangles)(const R *bounds, const int *kept_list, int num_kept, const R *low,
+                                        const R *high, int *near_list)
 {
   int count = 0;
   for (int n = 0; n < num_kept; n++) {
     int t = kept_list[n];
     near_list[count] = t;
-    count += POLY_FN(boxes_overlap)(bounds + 6 * t, bounds + 6 * t + 3, box);
+    count += POLY_FN(boxes_overlap)(low, high, bounds + 6 * t);
   }
   return count;
 }
@@ -228,14 +228,9 @@ POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R
         num_candidates = POLY_FN(grid_candidates)(&grid, ws, low, high);
         candidates = ws->grid_candidates;
       }
-      /* The candidates whose box meets the edge's, in their order, without a branch per candidate (four in five
-       * miss, unpredictably); then the tests on those. */
-      int *passing = ws->box_passing, num_passing = 0;
-      for (int n = 0; n < num_candidates; n++) {
-        int t = candidates[n];
-        passing[num_passing] = t;
-        num_passing += POLY_FN(boxes_overlap)(low, high, other_bounds + 6 * t);
-      }
+      /* The candidates whose box meets the edge's (four in five miss); then the tests on those. */
+      int *passing = ws->box_passing;
+      const int num_passing = POLY_FN(near_triangles)(other_bounds, candidates, num_candidates, low, high, passing);
       for (int n = 0; n < num_passing; n++) {
         int t = passing[n];
         const int *tri = other->triangles + 3 * t;
@@ -511,8 +506,10 @@ POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va,
     near_box[k] = f->box_a_low[k] > f->box_b_low[k] ? f->box_a_low[k] : f->box_b_low[k];
     near_box[3 + k] = f->box_a_high[k] < f->box_b_high[k] ? f->box_a_high[k] : f->box_b_high[k];
   }
-  int num_near_a = POLY_FN(near_triangles)(ws->bounds_a, ws->kept_list_a, f->num_kept_a, near_box, ws->near_list_a);
-  int num_near_b = POLY_FN(near_triangles)(ws->bounds_b, ws->kept_list_b, f->num_kept_b, near_box, ws->near_list_b);
+  int num_near_a = POLY_FN(near_triangles)(ws->bounds_a, ws->kept_list_a, f->num_kept_a, near_box, near_box + 3,
+                                           ws->near_list_a);
+  int num_near_b = POLY_FN(near_triangles)(ws->bounds_b, ws->kept_list_b, f->num_kept_b, near_box, near_box + 3,
+                                           ws->near_list_b);
   int *runs_a = ws->runs;
   if (POLY_FN(find_crossings)(a, va, ws->along_a, ws->planes_a, ws->bounds_a, a->face_normals, 0, ws->kept_list_a,
                               f->num_kept_a, b, vb,

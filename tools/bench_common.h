@@ -1,6 +1,7 @@
-/* What the CPU benchmarks (tools/bench_overlap.c, tools/bench_cylinder.c) share: a fixed, portable random
- * sequence, random rotations, a clock, and the median time of a repeated workload. Include after
- * _POSIX_C_SOURCE is defined (for clock_gettime). */
+/* What the CPU benchmarks (tools/bench_overlap.c, tools/bench_cylinder.c, tools/bench_pile_pairs.c) and
+ * tests/unit/clip_sides_bits.c share: a fixed, portable random sequence, random rotations, a clock, the median
+ * time of a repeated workload, and loading a shape file. Include after _POSIX_C_SOURCE is defined (for
+ * clock_gettime). */
 #ifndef BENCH_COMMON_H
 #define BENCH_COMMON_H
 
@@ -9,6 +10,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
+
+#include "poly_shape.h"
 
 static const double PI = 3.14159265358979323846;
 
@@ -79,6 +82,18 @@ static inline int read_arguments(int argc, char **argv, int *poses, int *repeats
   *poses = argc > 2 ? atoi(argv[2]) : 64;
   *repeats = argc > 3 ? atoi(argv[3]) : 5;
   return *poses < 1 || *repeats < least_repeats ? 2 : 0;
+}
+
+/* Loads the shape file `file` (in `dir` unless an absolute path) at `scale` into *shape: 0, or 1 with the loader's
+ * message on stderr. */
+static inline int load_shape(const char *dir, const char *file, double scale, poly_shape *shape)
+{
+  char path[4096], message[512];
+  if (file[0] == '/') snprintf(path, sizeof path, "%s", file);
+  else snprintf(path, sizeof path, "%s/%s", dir, file);
+  if (poly_shape_load(path, scale, shape, message, sizeof message) == POLY_OK) return 0;
+  fprintf(stderr, "%s\n", message);
+  return 1;
 }
 
 #endif

@@ -114,13 +114,8 @@ int main(int argc, char **argv)
     const char *name = strrchr(SHAPE_FILES[i], '.');
     if (only && (strlen(only) != (size_t)(name - SHAPE_FILES[i]) || strncmp(only, SHAPE_FILES[i], strlen(only))))
       continue;
-    char path[4096], message[512];
     poly_shape shape;
-    snprintf(path, sizeof path, "%s/%s", argv[1], SHAPE_FILES[i]);
-    if (poly_shape_load(path, 1.0, &shape, message, sizeof message) != POLY_OK) {
-      fprintf(stderr, "%s\n", message);
-      return 1;
-    }
+    if (load_shape(argv[1], SHAPE_FILES[i], 1.0, &shape)) return 1;
     poly_shape_view_d view = poly_shape_view_of(&shape);
     double diameter = cbrt(6.0 * shape.volume / PI), radius = DRUM_DIAMETERS * diameter;
     int facets = poly_cylinder_facets(radius, SAGITTA * view.bounding_radius);

@@ -94,13 +94,7 @@ int main(int argc, char **argv)
   bench_shape shapes[MAX_SHAPES];
   int max_vertices = 0, max_triangles = 0;
   for (int i = 0; i < num_shapes; i++) {
-    char path[4096], message[512];
-    if (files[i][0] == '/') snprintf(path, sizeof path, "%s", files[i]);
-    else snprintf(path, sizeof path, "%s/%s", argv[1], files[i]);
-    if (poly_shape_load(path, 1.0, &shapes[i].shape, message, sizeof message) != POLY_OK) {
-      fprintf(stderr, "%s\n", message);
-      return 1;
-    }
+    if (load_shape(argv[1], files[i], 1.0, &shapes[i].shape)) return 1;
     shapes[i].view_d = poly_shape_view_of(&shapes[i].shape);
     if (poly_shape_view_make_f(&shapes[i].shape, &shapes[i].view_f) != 0) return 1;
     if (shapes[i].shape.num_vertices > max_vertices) max_vertices = shapes[i].shape.num_vertices;

@@ -77,13 +77,8 @@ int main(int argc, char **argv)
     fprintf(stderr, "usage: %s SHAPES_DIR SHAPE_FILE SCALE DUMP [repeats]\n", argv[0]);
     return 2;
   }
-  char path[4096], message[512];
-  snprintf(path, sizeof path, "%s/%s", argv[1], argv[2]);
   poly_shape shape;
-  if (poly_shape_load(path, atof(argv[3]), &shape, message, sizeof message) != POLY_OK) {
-    fprintf(stderr, "%s\n", message);
-    return 1;
-  }
+  if (load_shape(argv[1], argv[2], atof(argv[3]), &shape)) return 1;
   const int repeats = argc > 5 ? atoi(argv[5]) : 7;
   poly_pose *poses = calloc(MAX_PARTICLES, sizeof *poses);
   const int particles = read_dump(argv[4], poses);

@@ -23,13 +23,8 @@ int main(int argc, char **argv)
   }
   const int pairs = atoi(argv[2]);
   for (int s = 3; s < argc; s++) {
-    char path[4096], message[512];
-    snprintf(path, sizeof path, "%s/%s", argv[1], argv[s]);
     poly_shape shape;
-    if (poly_shape_load(path, 1.0, &shape, message, sizeof message) != POLY_OK) {
-      fprintf(stderr, "%s\n", message);
-      return 1;
-    }
+    if (load_shape(argv[1], argv[s], 1.0, &shape)) return 1;
     poly_shape_view_d view = poly_shape_view_of(&shape);
     poly_overlap_workspace_d ws;
     if (poly_overlap_workspace_create_d(&ws, shape.num_vertices, shape.num_triangles) != 0) return 1;
