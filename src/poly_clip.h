@@ -312,9 +312,11 @@ POLY_INLINE int poly_clip_sides(const double *x, int count, const double *planes
                                 unsigned *front, unsigned *parting)
 {
   double nx[POLY_CLIP_SIDES_PADDED], ny[POLY_CLIP_SIDES_PADDED], nz[POLY_CLIP_SIDES_PADDED], d[POLY_CLIP_SIDES_PADDED];
-  const int padded = num_planes <= 8 ? 8 : POLY_CLIP_SIDES_PADDED;
+  /* Loops of 6 planes (boxes, hexagonal prisms), 8 or all: a box padded to 8 spent a quarter of its sides on pads. */
+  const int padded = num_planes <= 6 ? 6 : num_planes <= 8 ? 8 : POLY_CLIP_SIDES_PADDED;
   poly_clip_plane_columns(planes, num_planes, padded, nx, ny, nz, d);
   const unsigned valid = (1u << num_planes) - 1u;
+  if (padded == 6) return poly_clip_sides_columns(x, count, nx, ny, nz, d, 3, flush, valid, front, parting);
   return padded == 8 ? poly_clip_sides_columns(x, count, nx, ny, nz, d, 4, flush, valid, front, parting)
                      : poly_clip_sides_columns(x, count, nx, ny, nz, d, POLY_CLIP_SIDES_PADDED / 2, flush, valid,
                                                front, parting);
