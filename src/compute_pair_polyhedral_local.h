@@ -35,7 +35,7 @@ class ComputePairPolyhedralLocal : public Compute {
  private:
   class PairPolyhedralVolumetric *pair;
   int capacity;
-  double statistics[8];
+  double statistics[9];
   void require_current_records();
 };
 

@@ -30,7 +30,7 @@ static const double kHertzFraction = 0.1;
 
 PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
     : Pair(lmp), computeflag(0), listgranhistory(NULL), tangential_history(true), damping(true),
-      rocking_damping(true), cohesion(false),
+      rocking_damping(true), cohesion(false), crossing_cache(true),
 #ifdef POLY_SINGLE_PRECISION
       precision(POLY_PRECISION_SINGLE),
 #else
@@ -41,7 +41,7 @@ PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
 {
   degenerate.smoothed = degenerate.recomputed = degenerate.inconsistent = 0.0;
   evaluations.candidates = evaluations.hinted = evaluations.contacts = evaluations.parted = 0.0;
-  evaluations.near_misses = 0.0;
+  evaluations.near_misses = evaluations.from_cache = 0.0;
   single_enable = 0;
   restartinfo = 1;
   no_virial_fdotr_compute = 1;
@@ -96,6 +96,9 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
     } else if (strcmp(key, "rocking_damping") == 0) {
       ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
       rocking_damping = strcmp(value, "on") == 0;
+    } else if (strcmp(key, "crossing_cache") == 0) {
+      ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
+      crossing_cache = strcmp(value, "on") == 0;
     } else if (strcmp(key, "precision") == 0) {
       ok = strcmp(value, "double") == 0 || strcmp(value, "single") == 0 || strcmp(value, "mixed") == 0;
       precision = strcmp(value, "single") == 0  ? POLY_PRECISION_SINGLE
@@ -104,8 +107,8 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
     } else {
       char message[256];
       snprintf(message, sizeof message,
-               "Pair polyhedral/volumetric: unknown keyword '%s' (tangential, damping, rocking_damping, precision; "
-               "LIGGGHTS' model, cohesion, rolling_friction, surface)",
+               "Pair polyhedral/volumetric: unknown keyword '%s' (tangential, damping, rocking_damping, precision, "
+               "crossing_cache; LIGGGHTS' model, cohesion, rolling_friction, surface)",
                key);
       error->all(FLERR, message);
     }
@@ -467,18 +470,47 @@ void PairPolyhedralVolumetric::poses(int i, int j, poly_pose *pose_i, poly_pose 
   }
 }
 
-void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result)
+void PairPolyhedralVolumetric::overlap(int i, int j, poly_overlap_result *result, poly_crossing_cache *cache)
 {
   poly_pose pose_i, pose_j;
   poses(i, j, &pose_i, &pose_j);
   int si = atom->shapetype[i], sj = atom->shapetype[j];
   workspace_d.want_second_moment = workspace_f.want_second_moment = damping && rocking_damping;
+  workspace_d.crossing_cache = workspace_f.crossing_cache = cache;
   if (precision == POLY_PRECISION_SINGLE)
     poly_overlap_f(&views_f[si], &pose_i, &views_f[sj], &pose_j, &workspace_f, result);
   else if (precision == POLY_PRECISION_MIXED)
     poly_overlap_m(&views_f[si], &pose_i, &views_f[sj], &pose_j, &workspace_f, result);
   else
     poly_overlap_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, &workspace_d, result);
+  workspace_d.crossing_cache = workspace_f.crossing_cache = NULL;
+}
+
+// A pool entry for a pair's crossing cache, zeroed (no crossings, no certificate).
+int PairPolyhedralVolumetric::new_crossing_cache()
+{
+  int index;
+  if (!crossing_cache_free.empty()) {
+    index = crossing_cache_free.back();
+    crossing_cache_free.pop_back();
+  } else {
+    index = (int) crossing_cache_pool.size();
+    crossing_cache_pool.push_back(poly_crossing_cache());
+  }
+  // What a new pair's cache must say: made for no shapes, no certificate (the rest is written with them).
+  poly_crossing_cache &cache = crossing_cache_pool[index];
+  cache.shape_a = cache.shape_b = NULL;
+  cache.margin = 0.0;
+  cache.hits = cache.backoff = cache.skip = 0;
+  return index;
+}
+
+void PairPolyhedralVolumetric::release_crossing_cache(int slot)
+{
+  if (slot < (int) crossing_cache_of.size() && crossing_cache_of[slot] >= 0) {
+    crossing_cache_free.push_back(crossing_cache_of[slot]);
+    crossing_cache_of[slot] = -1;
+  }
 }
 
 bool PairPolyhedralVolumetric::still_separated(int i, int j, int hint)
@@ -548,6 +580,13 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
     num_hints += numneigh[ilist[ii]];
   }
   if (separating_hint.size() < num_hints) separating_hint.resize(num_hints, -1);
+  // The contacts' crossing caches, laid out as the hints; started afresh at each neighbour-list build (a cache
+  // left to another pair would be safe, its certificate being geometric, but its slot's bookkeeping would not).
+  if (crossing_cache && (neighbor->ago == 0 || crossing_cache_of.size() != num_hints)) {
+    crossing_cache_of.assign(num_hints, -1);
+    crossing_cache_pool.clear();
+    crossing_cache_free.clear();
+  }
 
   for (int ii = 0; ii < inum; ii++) {
     int i = ilist[ii];
@@ -567,7 +606,15 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
           error->one(FLERR, "Pair polyhedral/volumetric: a particle has a shape without template");
         evaluations.candidates++;
         if (hints[jj] < 0 || !still_separated(i, j, hints[jj])) {
-          overlap(i, j, &geometry);
+          poly_crossing_cache *cache = NULL;
+          if (crossing_cache) {
+            int &index = crossing_cache_of[hint_offset[ii] + jj];
+            if (index < 0) index = new_crossing_cache();
+            cache = &crossing_cache_pool[index];
+          }
+          const long hits = workspace_d.cache_hits + workspace_f.cache_hits;
+          overlap(i, j, &geometry, cache);
+          const bool from_cache = workspace_d.cache_hits + workspace_f.cache_hits > hits;
           hints[jj] = geometry.separating;
           count_degenerate(geometry);
           // Faces that touch exactly come out with a round-off volume (the symbolic
@@ -576,6 +623,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
           double volume_i = rmass[i] / density[i], volume_j = rmass[j] / density[j];
           double negligible = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
           in_contact = geometry.volume > negligible && geometry.depth > 0.0;
+          if (in_contact && from_cache) evaluations.from_cache++;
           if (in_contact) evaluations.contacts++;
           else if (geometry.filtered_out) evaluations.parted++;
           else evaluations.near_misses++;
@@ -584,6 +632,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
         }
       }
       if (!in_contact) {
+        if (crossing_cache) release_crossing_cache(hint_offset[ii] + jj);
         // A pair that was not touching has zero history already: LIGGGHTS' lists
         // give new pairs zeros, and a pair leaving contact is cleared here.
         if (history && (!touch || touch[jj]))

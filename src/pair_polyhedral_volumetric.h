@@ -59,6 +59,7 @@ class PairPolyhedralVolumetric : public Pair {
   // misses, which cost about what a contact does).
   struct EvaluationCounts {
     double candidates, hinted, contacts, parted, near_misses;
+    double from_cache;  // contacts evaluated from their certified crossings (crossing_cache)
   };
   const EvaluationCounts &evaluation_counts() const { return evaluations; }
 
@@ -96,6 +97,7 @@ class PairPolyhedralVolumetric : public Pair {
 
  protected:
   bool tangential_history, damping, rocking_damping, cohesion;
+  bool crossing_cache;  // `crossing_cache on` (default): contacts reuse their crossings while certified
   int precision;  // poly_precision
   std::vector<class Compute *> recorders;
   bool recording;               // on this step
@@ -124,7 +126,13 @@ class PairPolyhedralVolumetric : public Pair {
   void check_timestep();
   bool begin_compute(int eflag, int vflag);
   void poses(int i, int j, poly_pose *pose_i, poly_pose *pose_j) const;
-  void overlap(int i, int j, poly_overlap_result *result);
+  void overlap(int i, int j, poly_overlap_result *result, poly_crossing_cache *cache = NULL);
+  // Per neighbour pair in contact, its crossing cache (poly_crossing_cache): crossing_cache_of, laid out as the
+  // hints, indexes the pool (-1: none); entries of pairs that part go to the free list.
+  std::vector<int> crossing_cache_of, crossing_cache_free;
+  std::vector<poly_crossing_cache> crossing_cache_pool;
+  int new_crossing_cache();
+  void release_crossing_cache(int slot);
   // Per neighbour pair, the code of the supporting triangle that parted it at its last evaluation (-1: none),
   // laid out as the neighbour list (hint_offset per ii): most pairs that are apart stay apart from one step
   // to the next, and one plane shows it. A code left from another pair after a neighbour-list build is safe

@@ -83,6 +83,31 @@ typedef struct poly_overlap_result {
                              for poly_overlap_still_separated at the next step; else -1 */
 } poly_overlap_result;
 
+/* What a pair's last crossing search found, kept by the caller from step to step (the pair style, per contact),
+ * so that the next evaluations of the pair take the same boundary without the search while B has moved, relative
+ * to A, by less than `margin`: below it no edge-triangle decision can change (a certificate from each decision's
+ * predicates, poly_overlap_cache_impl.h), so the crossings, the vertices inside and the edges with inside parts
+ * are those the search would find, and the sums over them, made by the same functions in the same order, give
+ * every result bit it would give. General path (crossing records) only; a caller sets the workspace's
+ * crossing_cache (zeroed for a new pair) before each call. */
+#define POLY_CACHE_RECORDS 32
+#define POLY_CACHE_EDGES 48
+#define POLY_CACHE_INSIDE 32
+typedef struct poly_crossing_cache {
+  const void *shape_a, *shape_b;   /* the shapes it was made for (their vertex arrays) */
+  double rotation[9], translation[3]; /* B's pose in A's body frame at that search */
+  double margin;                   /* 0: no certificate (the next evaluation searches) */
+  int num_records, records_b;      /* crossings of A's edges [0, records_b), of B's [records_b, num_records) */
+  int num_edges, edges_b;          /* edges with a part inside the other body: A's [0, edges_b), B's after */
+  int num_inside, inside_b;        /* vertices inside the other body: A's [0, inside_b), B's after */
+  int num_kept_a, num_kept_b;      /* the search's kept triangles (its pass reports them) */
+  int hits;                        /* evaluations that took them since the certificate was made */
+  int backoff, skip;               /* searches to make no certificate after one that served no evaluation */
+  int edge[POLY_CACHE_RECORDS], triangle[POLY_CACHE_RECORDS]; /* ascending by edge, then triangle */
+  int inside_edge[POLY_CACHE_EDGES]; /* ascending within each body */
+  int inside_vertex[POLY_CACHE_INSIDE]; /* ascending within each body */
+} poly_crossing_cache;
+
 #define POLY_OVERLAP_DECLARE(REAL, SUFFIX)                                                            \
   typedef struct poly_shape_view##SUFFIX {                                                           \
     int num_vertices, num_triangles, num_edges;                                                     \
@@ -144,6 +169,10 @@ typedef struct poly_overlap_result {
     REAL *points;                      /* intersection nodes, 3 * capacity_points */                \
     int num_points;                    /* of the last overlap (may exceed capacity_points) */        \
     double origin[3];                  /* of the local frame of the points, in A's body frame */     \
+    poly_crossing_cache *crossing_cache; /* the pair's (see poly_crossing_cache), or NULL (default) */ \
+    int cache_pass;                    /* set by overlap_local: the pass that may use or fill it */     \
+    long cache_hits, cache_searches, cache_certificates; /* evaluations that took the cached crossings; that \
+                                          searched with a cache given; certificates made */           \
   } poly_overlap_workspace##SUFFIX;
 
 POLY_OVERLAP_DECLARE(double, _d)

@@ -144,6 +144,8 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   size_t nbuckets = POLY_OVERLAP_RECORDS ? nt : 0;
   /* The convex path's side table: rows of the vertices it clips, a column per face. */
   size_t nsides = 2 * (nv * nt < 16 * (nv + nt) + 128 ? nv * nt : 16 * (nv + nt) + 128);
+  /* It also holds the crossing cache's certificate boxes: 6 per triangle and per edge (3/2 per triangle). */
+  if (nsides < 15 * nt + 64) nsides = 15 * nt + 64;
   if (!POLY_OVERLAP_RECORDS) nsides = 0;
   size_t nfaces = POLY_OVERLAP_RECORDS ? nt : 0;
   size_t nrows = POLY_OVERLAP_RECORDS ? nv : 0;
@@ -223,6 +225,9 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->capacity_grid = (int)nentries;
   ws->use_filter = 1;
   ws->want_second_moment = 0;
+  ws->crossing_cache = NULL;
+  ws->cache_pass = 0;
+  ws->cache_hits = ws->cache_searches = ws->cache_certificates = 0;
   return bytes;
 }
 
@@ -675,6 +680,13 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
                           translation[k] - origin[k]);
   }
 
+#if POLY_OVERLAP_RECORDS
+  /* A contact whose crossings are certified since its last search: their sums without the filter and search. */
+  if (ws->cache_pass && ws->crossing_cache && POLY_FN(cache_replay)(a, va, b, vb, rotation, translation, ws, out)) {
+    ws->capacity_points = capacity_points;
+    return;
+  }
+#endif
   /* Small convex shapes: the blocks path needs no filter. */
 #if POLY_OVERLAP_RECORDS
   int blocks_failed = 0;
@@ -765,7 +777,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     if (!done) ws->convex_fallbacks++;
   }
   if (!done && ws->use_records) {
-    done = POLY_FN(records_path)(a, va, b, vb, &f, ws, out) == 0;
+    done = POLY_FN(records_path)(a, va, b, vb, rotation, translation, &f, ws, out) == 0;
     if (!done) ws->records_overflows++;
   }
 #endif

@@ -176,6 +176,60 @@ POLY_INLINE int POLY_FN(records_crossing_in_triangle)(const R *p0, const R *p1, 
   return sign0;
 }
 
+/* Appends the record (edge e crossing triangle t at lambda, entering when side > 0) to the edge's records from
+ * `first` (count so far *count), in order along the edge; 0 when the records are full. */
+POLY_INLINE int POLY_FN(insert_record)(POLY_FN(overlap_workspace) *ws, int first, int *count, int e, int t, R lambda,
+                                       int side)
+{
+  if (first + *count >= ws->capacity_records) return 0;
+  /* Insertion sort: an edge crosses a handful of triangles. */
+  int slot = first + (*count)++;
+  while (slot > first && ws->record_lambda[slot - 1] > lambda) {
+    ws->record_lambda[slot] = ws->record_lambda[slot - 1];
+    ws->record_entering[slot] = ws->record_entering[slot - 1];
+    ws->record_triangle[slot] = ws->record_triangle[slot - 1];
+    ws->record_edge[slot] = ws->record_edge[slot - 1];
+    slot--;
+  }
+  ws->record_lambda[slot] = lambda;
+  ws->record_entering[slot] = side > 0 ? (R)1 : (R)-1;
+  ws->record_triangle[slot] = t;
+  ws->record_edge[slot] = e;
+  return 1;
+}
+
+/* The edges of `mine`'s kept triangles, as bits of ws->edge_mask (all edges when the shape lists no triangle
+ * edges); returns the mask's words. An edge in the slab has an end in it, so both its triangles are kept: these,
+ * in ascending order as the reference path takes them (rocks: a fifth of the edges), rather than all. */
+POLY_INLINE int POLY_FN(kept_edge_mask)(const POLY_FN(shape_view) *mine, const int *my_kept_list, int my_num_kept,
+                                        POLY_FN(overlap_workspace) *ws)
+{
+  const int words = (mine->num_edges + 31) / 32;
+  unsigned *mask = ws->edge_mask;
+  for (int w = 0; w < words; w++) mask[w] = mine->triangle_edges ? 0u : ~0u;
+  if (mine->num_edges % 32) mask[words - 1] &= ~0u >> (32 - mine->num_edges % 32);
+  if (mine->triangle_edges)
+    for (int n = 0; n < my_num_kept; n++)
+      for (int k = 0; k < 3; k++) {
+        int e = mine->triangle_edges[3 * my_kept_list[n] + k];
+        mask[e >> 5] |= 1u << (e & 31);
+      }
+  return words;
+}
+
+/* Whether edge p0 p1 (vertices v0 v1 of `mine`, places along the axis d0 d1) is one the crossing search tests:
+ * an end reaches the slab and its box meets the boxes' common part. */
+POLY_INLINE int POLY_FN(edge_tested)(int mine_is_b, R d0, R d1, R slab_limit, const R *p0, const R *p1,
+                                     const R *near_box, R *low, R *high)
+{
+  /* The other body lies beyond slab_limit along +axis (my_along) for A, below it for B. */
+  if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) return 0;
+  POLY_FN(segment_bounds)(p0, p1, low, high);
+  /* An edge whose box misses the boxes' common part meets no candidate's box, and both its ends lie outside
+   * the other's box: no record, no inside part, nothing for settle_inside to carry. */
+  return POLY_FN(boxes_overlap)(low, high, near_box);
+}
+
 /* Records of the edges of `mine` in the slab crossing kept triangles of
  * `other`, sorted along each edge: one run (edge, first record, count) per edge
  * tested (not those with both ends short of `slab_limit`, their vertices'
@@ -196,31 +250,16 @@ POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R
   POLY_FN(grid) grid = {{0, 0, 0}, {0, 0, 0}, 0};
   int gridded = other_num_kept >= POLY_GRID_MIN_KEPT &&
                 POLY_FN(grid_build)(ws, other_bounds, other_kept_list, other_num_kept, &grid) == 0;
-  /* An edge in the slab has an end in it, so both its triangles are kept: the edges of the kept triangles, in
-   * ascending order as the reference path takes them (rocks: a fifth of the edges), rather than all. */
-  const int words = (mine->num_edges + 31) / 32;
-  unsigned *mask = ws->edge_mask;
-  for (int w = 0; w < words; w++) mask[w] = mine->triangle_edges ? 0u : ~0u;
-  if (mine->num_edges % 32) mask[words - 1] &= ~0u >> (32 - mine->num_edges % 32);
-  if (mine->triangle_edges)
-    for (int n = 0; n < my_num_kept; n++)
-      for (int k = 0; k < 3; k++) {
-        int e = mine->triangle_edges[3 * my_kept_list[n] + k];
-        mask[e >> 5] |= 1u << (e & 31);
-      }
+  const int words = POLY_FN(kept_edge_mask)(mine, my_kept_list, my_num_kept, ws);
+  const unsigned *mask = ws->edge_mask;
   for (int w = 0; w < words; w++)
     for (unsigned bits = mask[w]; bits; bits &= bits - 1) {
       int e = 32 * w + poly_clip_lowest_bit(bits);
       int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
       const R *p0 = my_vertices + 3 * v0, *p1 = my_vertices + 3 * v1;
-      R d0 = my_along[v0], d1 = my_along[v1];
-      /* The other body lies beyond slab_limit along +axis (my_along) for A, below it for B. */
-      if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) continue;
       R low[3], high[3];
-      POLY_FN(segment_bounds)(p0, p1, low, high);
-      /* An edge whose box misses the boxes' common part meets no candidate's box, and both its ends lie outside
-       * the other's box: no record, no inside part, nothing for settle_inside to carry. */
-      if (!POLY_FN(boxes_overlap)(low, high, near_box)) continue;
+      if (!POLY_FN(edge_tested)(mine_is_b, my_along[v0], my_along[v1], slab_limit, p0, p1, near_box, low, high))
+        continue;
       int first = *num_records, count = 0;
       const int *candidates = other_kept_list;
       int num_candidates = other_num_kept;
@@ -261,20 +300,7 @@ POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R
         int side = POLY_FN(records_crossing_in_triangle)(p0, p1, mine_is_b, other_vertices, tri, side0, side1, sign0,
                                                          &lambda);
         if (!side) continue;
-        if (first + count >= ws->capacity_records) return -1;
-        /* Insertion sort: an edge crosses a handful of triangles. */
-        int slot = first + count++;
-        while (slot > first && ws->record_lambda[slot - 1] > lambda) {
-          ws->record_lambda[slot] = ws->record_lambda[slot - 1];
-          ws->record_entering[slot] = ws->record_entering[slot - 1];
-          ws->record_triangle[slot] = ws->record_triangle[slot - 1];
-          ws->record_edge[slot] = ws->record_edge[slot - 1];
-          slot--;
-        }
-        ws->record_lambda[slot] = lambda;
-        ws->record_entering[slot] = side > 0 ? (R)1 : (R)-1;
-        ws->record_triangle[slot] = t;
-        ws->record_edge[slot] = e;
+        if (!POLY_FN(insert_record)(ws, first, &count, e, t, lambda, side)) return -1;
       }
       *num_records = first + count;
       int *run = runs + 3 * (*num_runs)++;
@@ -487,17 +513,109 @@ POLY_INLINE void POLY_FN(add_chords)(const POLY_FN(shape_view) *a, const R *va, 
   }
 }
 
+/* The crossing cache's certificates: at most POLY_CACHE_CAP of the two bounding radii (3e-4 and 3e-3 did no
+ * better in the rock pile of tools/bench_vs_multisphere.sh), made for pairs that moved by less than
+ * POLY_CACHE_GATE of that since their last search. */
+#ifndef POLY_CACHE_CAP
+#define POLY_CACHE_CAP 1e-3
+#endif
+/* Tests only (tests/test_crossing_cache.py): certificates inflated by this factor must be caught. */
+#ifndef POLY_CACHE_MARGIN_SCALE
+#define POLY_CACHE_MARGIN_SCALE 1
+#endif
+#ifndef POLY_CACHE_GATE
+#define POLY_CACHE_GATE 0.0625
+#endif
+#include "poly_overlap_cache_impl.h"
+
+/* After a search with a cache given: the pose, and, for a pair that moved little since its last search (so that
+ * a certificate may last), what cache_replay needs and the certificate (none for flush faces, inconsistent edges,
+ * convex shapes, which take their own paths, or more than the cache or the nodes hold). */
+POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
+                                             const R *vb, const double *rotation, const double *translation,
+                                             const POLY_FN(filtered) *f, const int *runs_a, int num_runs_a,
+                                             const int *runs_b, int num_runs_b, int num_records, int records_b,
+                                             int num_points, int flush, int inconsistent,
+                                             POLY_FN(overlap_workspace) *ws)
+{
+  poly_crossing_cache *cache = ws->crossing_cache;
+  const double cap = POLY_CACHE_CAP * ((double)a->bounding_radius + (double)b->bounding_radius);
+  const int known = cache->shape_a == (const void *)a->vertices && cache->shape_b == (const void *)b->vertices;
+  /* A pair that moved by less than POLY_CACHE_GATE of the cap since its last search may keep a certificate for a
+   * few steps (a sixteenth: in the hopper example's flow an eighth made twice as many, serving no one). A
+   * certificate costs about a search, an evaluation from it a quarter of one: a pair whose certificate served
+   * fewer than two evaluations waits 1, 2, 4 ... 64 searches before the next. */
+  const double moved = known ? POLY_FN(cache_motion)(cache, a, b, rotation, translation) : cap;
+  const int slow = moved < POLY_CACHE_GATE * cap;
+  if (known && cache->margin > 0.0) cache->backoff = cache->hits > 1 ? 0 : (cache->backoff ? 2 * cache->backoff : 1);
+  if (cache->backoff > 64) cache->backoff = 64;
+  cache->hits = 0;
+  ws->cache_searches++;
+  cache->shape_a = (const void *)a->vertices;
+  cache->shape_b = (const void *)b->vertices;
+  for (int k = 0; k < 9; k++) cache->rotation[k] = rotation[k];
+  for (int k = 0; k < 3; k++) cache->translation[k] = translation[k];
+  cache->margin = 0.0;
+  if (!slow || flush || inconsistent || num_records == 0 || num_records > POLY_CACHE_RECORDS ||
+      num_points > ws->capacity_points || (a->face_of && b->face_of))
+    return;
+  /* The edges with inside parts (crossings, or an inside first vertex) and the inside vertices. */
+  int num_edges = 0, edges_b = 0, num_inside = 0, inside_b = 0;
+  for (int body = 0; body < 2; body++) {
+    const POLY_FN(shape_view) *mine = body ? b : a;
+    const int *runs = body ? runs_b : runs_a, count = body ? num_runs_b : num_runs_a;
+    const unsigned char *inside = body ? ws->inside_b : ws->inside_a;
+    if (body) edges_b = num_edges, inside_b = num_inside;
+    for (int r = 0; r < count; r++) {
+      const int *run = runs + 3 * r;
+      if (run[2] == 0 && !inside[mine->edges[2 * run[0]]]) continue;
+      if (num_edges == POLY_CACHE_EDGES) return;
+      cache->inside_edge[num_edges++] = run[0];
+    }
+    for (int v = 0; v < mine->num_vertices; v++) {
+      if (!inside[v]) continue;
+      if (num_inside == POLY_CACHE_INSIDE) return;
+      cache->inside_vertex[num_inside++] = v;
+    }
+  }
+  if (cache->skip > 0) {
+    cache->skip--;
+    return;
+  }
+  cache->skip = cache->backoff;
+  double margin = POLY_FN(cache_certificate_way)(a, va, ws->along_a, b, vb, ws->along_b, 0, (double)f->limit_a,
+                                                 (double)f->limit_b, (double)f->tolerance, cap, ws);
+  if (margin > 0.0) {
+    double other = POLY_FN(cache_certificate_way)(b, vb, ws->along_b, a, va, ws->along_a, 1, (double)f->limit_b,
+                                                  (double)f->limit_a, (double)f->tolerance, cap, ws);
+    margin = other < margin ? other : margin;
+  }
+  ws->cache_certificates++;
+  if (!(margin > 0.0)) return;
+  POLY_FN(cache_keep_records)(cache, 0, ws, 0, records_b);
+  POLY_FN(cache_keep_records)(cache, records_b, ws, records_b, num_records);
+  cache->num_records = num_records;
+  cache->records_b = records_b;
+  cache->num_edges = num_edges;
+  cache->edges_b = edges_b;
+  cache->num_inside = num_inside;
+  cache->inside_b = inside_b;
+  cache->num_kept_a = f->num_kept_a;
+  cache->num_kept_b = f->num_kept_b;
+  cache->margin = POLY_CACHE_MARGIN_SCALE * margin;
+}
+
 /* The records path of one pass (see the top of this file). Returns 0 with the
  * sums, nodes, inconsistent edges and flush faces in *out, or -1 when the
  * records do not fit the workspace. */
 POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
-                                      const R *vb, const POLY_FN(filtered) *f, POLY_FN(overlap_workspace) *ws,
-                                      POLY_FN(pass) *out)
+                                      const R *vb, const double *rotation, const double *translation,
+                                      const POLY_FN(filtered) *f, POLY_FN(overlap_workspace) *ws, POLY_FN(pass) *out)
 {
   if (a->num_edges + b->num_edges > ws->capacity_runs) return -1;
   const int mask_words = POLY_EDGE_MASK_WORDS(ws->capacity_triangles);
   if ((a->num_edges + 31) / 32 > mask_words || (b->num_edges + 31) / 32 > mask_words) return -1;
-  int num_records = 0, num_runs_a = 0, num_runs_b = 0, flush = 0;
+  int num_records = 0, num_runs_a = 0, num_runs_b = 0, flush = 0, records_b = 0;
   /* Every crossing, and every flush pair of faces (found through the same box tests), lies in both bodies' boxes
    * of kept triangles: an edge of one in the slab is in its kept triangles' box. So the crossings need only the
    * triangles whose box meets the common part (rocks resting on each other: about a third of the kept ones). */
@@ -516,7 +634,8 @@ POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va,
                               ws->planes_b, ws->bounds_b, ws->normals_b, ws->near_list_b, num_near_b, f->limit_a,
                               near_box, f->tolerance, ws, &num_records, runs_a, &num_runs_a, &flush))
     return -1;
-  int records_b = num_records, *runs_b = runs_a + 3 * num_runs_a;
+  records_b = num_records;
+  int *runs_b = runs_a + 3 * num_runs_a;
   if (POLY_FN(find_crossings)(b, vb, ws->along_b, ws->planes_b, ws->bounds_b, ws->normals_b, 1, ws->kept_list_b,
                               f->num_kept_b, a, va,
                               ws->planes_a, ws->bounds_a, a->face_normals, ws->near_list_a, num_near_a, f->limit_b,
@@ -529,6 +648,9 @@ POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va,
   POLY_FN(settle_inside)(b, vb, ws->along_b, 1, f->limit_b, f->box_a_low, f->box_a_high, runs_b, num_runs_b,
                          f->ray_b, f->ray_length, a, va, ws->planes_a, ws->bounds_a, ws->kept_list_a, f->num_kept_a,
                          ws->inside_b, ws, &num_points, &inconsistent);
+  if (ws->cache_pass && ws->crossing_cache)
+    POLY_FN(cache_after_search)(a, va, b, vb, rotation, translation, f, runs_a, num_runs_a, runs_b, num_runs_b,
+                                num_records, records_b, num_points, flush, inconsistent, ws);
   POLY_FN(accumulator) acc = out->acc;
   POLY_FN(run_inside_parts)(a, va, ws->inside_a, runs_a, num_runs_a, a->face_normals, ws->apex_a, 0, NULL, ws, &acc,
                             &num_points);

@@ -1,0 +1,342 @@
+/* The crossing cache of the records path (poly_crossing_cache in poly_overlap.h). Included by
+ * poly_overlap_records_impl.h once per precision (no include guard).
+ *
+ * A resting contact keeps the same edge-triangle crossings for hundreds of steps (tools/coherence_study.sh: in
+ * the settled pile of rock_40, 90 % of the contacts through 1000 steps), while the search that finds them is half
+ * of the general path's time. After a search, a certificate bounds how far B may move relative to A (in A's body
+ * frame) before any decision of that search can change: each (edge, triangle) decision rests on orientation
+ * determinants det(x, y, z) of differences of the bodies' points, and moving every point by at most d moves
+ * such a determinant by at most (|x| + 2d)(|y| + 2d)(|z| + 2d) - |x||y||z| (Hadamard), so a determinant whose
+ * value, less its rounding bound, exceeds that keeps its sign, and its exact predicate its decision. A crossing
+ * needs all five of its determinants (both ends' sides of the triangle's plane, the three edge orientations), a
+ * miss one reason (both ends on one side, two orientations that disagree, boxes apart). While B's motion stays
+ * under the least of these margins the crossings stay those of the search, and so do the vertices inside the
+ * other body (a vertex changes sides only where an edge of it changes crossings) and the edges with inside parts.
+ * The next evaluations then skip the filter, the search and the inside states: each crossing's parameter comes
+ * from the same predicates, and the same functions sum the same parts in the same order (cache_replay), so every
+ * bit is the search's. */
+
+/* A motion d by which x, y and z may each change (by 2d: differences of points that each move by d) while a
+ * trilinear form of them with value `room` (|value| less its rounding bound) keeps its sign: the change is at most
+ * (x + 2d)(y + 2d)(z + 2d) - xyz <= d (2(xy + yz + zx) + 4(x + y + z) d + 8 d^2), so for d <= least,
+ * room / (2(xy + yz + zx) + 4(x + y + z) least + 8 least^2) serves. Returns `least` itself when that is at most
+ * the bound (no division: the caller keeps the least over its pairs), 0 when room <= 0. */
+POLY_INLINE double POLY_FN(trilinear_reach)(double room, double x, double y, double z, double least)
+{
+  if (!(room > 0.0)) return 0.0;
+  const double slope = 2.0 * (x * y + y * z + x * z) + least * (4.0 * (x + y + z) + 8.0 * least);
+  return room >= least * slope ? least : room / slope;
+}
+
+/* That motion for det(x, y, z) of value `value` (its rounding bound, generous: the predicates' fast filters use 32
+ * units of the type's roundoff on the same products of 1-norms, and `slack` taken off it too); *ok: the value's
+ * sign is certain. The 1-norms bound the lengths from above: a smaller margin, no root. */
+POLY_INLINE double POLY_FN(cache_det_margin)(const R *x, const R *y, const R *z, double value, double slack,
+                                             double least, int *ok)
+{
+  const double eps = (double)POLY_FN(epsilon)();
+  const double nx = (double)POLY_FN(norm1)(x), ny = (double)POLY_FN(norm1)(y), nz = (double)POLY_FN(norm1)(z);
+  const double room = fabs(value) - slack - 128.0 * eps * nx * ny * nz;
+  *ok = room > 0.0;
+  return POLY_FN(trilinear_reach)(room, nx, ny, nz, least);
+}
+
+/* The motion that leaves the decision on edge p0 p1 against triangle `tri` (vertices `q`) unchanged, or any
+ * value >= `least` when that one is (the caller keeps the least over the pairs); `gap`: the margin their boxes'
+ * gap gives (0 when they meet); `tolerance` > 0: the flush test's, whose reach (tolerance |plane|_1) one end of
+ * the edge must stay beyond. */
+POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R *q, const int *tri, double tolerance,
+                                              double gap, double least)
+{
+  const R *q0 = q + 3 * tri[0], *q1 = q + 3 * tri[1], *q2 = q + 3 * tri[2];
+  R e1[3], e2[3], c0[3], c1[3], d[3];
+  POLY_FN(sub)(q1, q0, e1);
+  POLY_FN(sub)(q2, q0, e2);
+  POLY_FN(sub)(p0, q0, c0);
+  POLY_FN(sub)(p1, q0, c1);
+  const double s0 = (double)POLY_FN(det)(e1, e2, c0), s1 = (double)POLY_FN(det)(e1, e2, c1);
+  int ok0, ok1;
+  const double m0 = POLY_FN(cache_det_margin)(e1, e2, c0, s0, 0.0, least, &ok0);
+  const double m1 = POLY_FN(cache_det_margin)(e1, e2, c1, s1, 0.0, least, &ok1);
+  double flush = 1e300;
+  if (tolerance > 0.0) {
+    R plane[3];
+    POLY_FN(cross)(e1, e2, plane);
+    const double reach = tolerance * (double)POLY_FN(norm1)(plane);
+    /* Both ends within the reach would send the pair to the flush test: one must stay beyond it. */
+    int f0, f1;
+    double r0 = POLY_FN(cache_det_margin)(e1, e2, c0, s0, reach, least, &f0);
+    double r1 = POLY_FN(cache_det_margin)(e1, e2, c1, s1, reach, least, &f1);
+    flush = r0 > r1 ? r0 : r1;
+    if (!f0 && !f1) return 0.0;
+  }
+  const int straddles = ok0 && ok1 && ((s0 > 0) != (s1 > 0));
+  double margin = gap;
+  if (ok0 && ok1 && !straddles) {
+    /* Both ends on one side: a miss for as long as they stay there. */
+    const double both = m0 < m1 ? m0 : m1;
+    margin = both > margin ? both : margin;
+    if (margin >= least) return flush < margin ? flush : margin;
+  }
+  POLY_FN(sub)(p1, p0, d);
+  const R *corners[3] = {q0, q1, q2};
+  double om[3];
+  int sign[3], known[3];
+  for (int k = 0; k < 3; k++) {
+    /* det(d, q_k - p0, q_k+1 - p0): the edge against the triangle's edge k (the three agree on a crossing). */
+    R a[3], b[3];
+    POLY_FN(sub)(corners[k], p0, a);
+    POLY_FN(sub)(corners[k == 2 ? 0 : k + 1], p0, b);
+    const double o = (double)POLY_FN(det)(d, a, b);
+    om[k] = POLY_FN(cache_det_margin)(d, a, b, o, 0.0, least, &known[k]);
+    sign[k] = o > 0;
+  }
+  const int agree = known[0] && known[1] && known[2] && sign[0] == sign[1] && sign[1] == sign[2];
+  if (straddles && agree) {
+    margin = m0 < m1 ? m0 : m1;
+    for (int k = 0; k < 3; k++) margin = om[k] < margin ? om[k] : margin;
+  } else {
+    /* A miss: the best of its reasons. */
+    for (int k = 0; k < 3; k++)
+      for (int l = k + 1; l < 3; l++)
+        if (known[k] && known[l] && sign[k] != sign[l]) {
+          double both = om[k] < om[l] ? om[k] : om[l];
+          margin = both > margin ? both : margin;
+        }
+  }
+  return flush < margin ? flush : margin;
+}
+
+/* The certificate of one way (edges of `mine` against triangles of `other`): the least pair margin, at most cap,
+ * over the pairs that could meet while each body moves by less than cap (their boxes within 2 cap, both within
+ * 2 cap of the slab's other side); 0 as soon as one pair's is. */
+POLY_INLINE double POLY_FN(cache_certificate_way)(const POLY_FN(shape_view) *mine, const R *my_vertices,
+                                                  const R *my_along, const POLY_FN(shape_view) *other,
+                                                  const R *other_vertices, const R *other_along, int mine_is_b,
+                                                  double limit_mine, double limit_other, double tolerance,
+                                                  double cap, POLY_FN(overlap_workspace) *ws)
+{
+  /* Along the slab's axis (a unit vector), B lies at >= limit_a and A at <= limit_b: a point of `mine` short of
+   * its limit by more than 2 cap, or of `other` beyond its own, stays out of the other body while each moves by
+   * less than cap, and so does an edge or a triangle all of whose points are. */
+  const double sign = mine_is_b ? -1.0 : 1.0, reach_mine = sign * limit_mine - 2.0 * cap,
+               reach_other = -sign * limit_other - 2.0 * cap;
+  /* The other's triangles in that band, with their boxes and the box of them all; then my edges in my band, with
+   * theirs (the boxes in the convex path's side table, the lists in the grid's: both free here). */
+  int *near = ws->grid_candidates, *edges = ws->grid_entries, num_near = 0, num_edges = 0;
+  R *boxes = ws->sides, *edge_boxes = ws->sides + 6 * other->num_triangles;
+  double other_low[3] = {1e300, 1e300, 1e300}, other_high[3] = {-1e300, -1e300, -1e300};
+  double my_low[3] = {1e300, 1e300, 1e300}, my_high[3] = {-1e300, -1e300, -1e300};
+  for (int t = 0; t < other->num_triangles; t++) {
+    const int *tri = other->triangles + 3 * t;
+    if (!(-sign * (double)other_along[tri[0]] >= reach_other || -sign * (double)other_along[tri[1]] >= reach_other ||
+          -sign * (double)other_along[tri[2]] >= reach_other))
+      continue;
+    R *box = boxes + 6 * num_near;
+    POLY_FN(triangle_bounds)(other_vertices, tri, box, box + 3);
+    for (int k = 0; k < 3; k++) {
+      other_low[k] = (double)box[k] < other_low[k] ? (double)box[k] : other_low[k];
+      other_high[k] = (double)box[3 + k] > other_high[k] ? (double)box[3 + k] : other_high[k];
+    }
+    near[num_near++] = t;
+  }
+  for (int e = 0; e < mine->num_edges; e++) {
+    if (!(sign * (double)my_along[mine->edges[2 * e]] >= reach_mine ||
+          sign * (double)my_along[mine->edges[2 * e + 1]] >= reach_mine))
+      continue;
+    R *box = edge_boxes + 6 * num_edges;
+    POLY_FN(segment_bounds)(my_vertices + 3 * mine->edges[2 * e], my_vertices + 3 * mine->edges[2 * e + 1], box,
+                            box + 3);
+    int in = 1;
+    for (int k = 0; k < 3; k++) {
+      in &= (double)box[3 + k] >= other_low[k] - 2.0 * cap && (double)box[k] <= other_high[k] + 2.0 * cap;
+      my_low[k] = (double)box[k] < my_low[k] ? (double)box[k] : my_low[k];
+      my_high[k] = (double)box[3 + k] > my_high[k] ? (double)box[3 + k] : my_high[k];
+    }
+    edges[num_edges] = e;
+    num_edges += in;
+  }
+  /* Only the other's triangles near those edges' box. */
+  int kept = 0;
+  for (int n = 0; n < num_near; n++) {
+    const R *box = boxes + 6 * n;
+    int in = 1;
+    for (int k = 0; k < 3; k++) in &= (double)box[3 + k] >= my_low[k] - 2.0 * cap && (double)box[k] <= my_high[k] + 2.0 * cap;
+    for (int k = 0; k < 6; k++) boxes[6 * kept + k] = box[k];
+    near[kept] = near[n];
+    kept += in;
+  }
+  num_near = kept;
+  double least = cap;
+  for (int m = 0; m < num_edges; m++) {
+    const int e = edges[m];
+    const R *p0 = my_vertices + 3 * mine->edges[2 * e], *p1 = my_vertices + 3 * mine->edges[2 * e + 1];
+    const R *low = edge_boxes + 6 * m, *high = low + 3;
+    for (int n = 0; n < num_near; n++) {
+      const R *box = boxes + 6 * n;
+      double gap = 0.0;
+      for (int k = 0; k < 3; k++) {
+        double g = (double)box[k] - (double)high[k], h = (double)low[k] - (double)box[3 + k];
+        g = g > h ? g : h;
+        gap = g > gap ? g : gap;
+      }
+      /* Boxes apart, by more than the flush test's growth of them: a miss for as long as they stay apart. */
+      gap = 0.5 * (gap - 4.0 * tolerance);
+      if (gap >= least) continue;
+      double margin = POLY_FN(cache_pair_margin)(p0, p1, other_vertices, other->triangles + 3 * near[n], tolerance,
+                                                 gap > 0.0 ? gap : 0.0, least);
+      if (margin < least) {
+        least = margin;
+        if (!(least > 0.0)) return 0.0;
+      }
+    }
+  }
+  return least;
+}
+
+/* How far B's points have moved in A's body frame since the cache's pose, at most: |R - R0|_F r_B + |T - T0|,
+ * and the rounding of the local coordinates (both poses'). */
+POLY_INLINE double POLY_FN(cache_motion)(const poly_crossing_cache *cache, const POLY_FN(shape_view) *a,
+                                         const POLY_FN(shape_view) *b, const double *rotation,
+                                         const double *translation)
+{
+  double turned = 0.0, moved = 0.0, far = 0.0;
+  for (int k = 0; k < 9; k++) turned += (rotation[k] - cache->rotation[k]) * (rotation[k] - cache->rotation[k]);
+  for (int k = 0; k < 3; k++) {
+    moved += (translation[k] - cache->translation[k]) * (translation[k] - cache->translation[k]);
+    far += translation[k] * translation[k];
+  }
+  const double size = (double)a->bounding_radius + (double)b->bounding_radius;
+  return sqrt(turned) * (double)b->bounding_radius + sqrt(moved) +
+         16.0 * (double)POLY_FN(epsilon)() * (2.0 * size + sqrt(far));
+}
+
+/* The crossing records of one body's cached crossings [from, to) at the current pose, with a run per cached edge
+ * [edge_from, edge_to) (ascending, as the search's runs): each crossing's parameter and side from the search's
+ * predicates on the same numbers, inserted along its edge as the search inserts them. 0 when a crossing does not
+ * hold (the certificate should have said so), -1 when the records are full; else 1. */
+POLY_INLINE int POLY_FN(cache_records)(const POLY_FN(shape_view) *mine, const R *my_vertices, int mine_is_b,
+                                       const POLY_FN(shape_view) *other, const R *other_vertices,
+                                       const poly_crossing_cache *cache, int from, int to, int edge_from,
+                                       int edge_to, POLY_FN(overlap_workspace) *ws, int *num_records, int *runs,
+                                       int *num_runs)
+{
+  int next = from;
+  for (int n = edge_from; n < edge_to; n++) {
+    const int e = cache->inside_edge[n];
+    const R *p0 = my_vertices + 3 * mine->edges[2 * e], *p1 = my_vertices + 3 * mine->edges[2 * e + 1];
+    int first = *num_records, count = 0;
+    for (; next < to && cache->edge[next] == e; next++) {
+      const int t = cache->triangle[next], *tri = other->triangles + 3 * t;
+      R e1[3], e2[3], plane[4];
+      POLY_FN(sub)(other_vertices + 3 * tri[1], other_vertices + 3 * tri[0], e1);
+      POLY_FN(sub)(other_vertices + 3 * tri[2], other_vertices + 3 * tri[0], e2);
+      POLY_FN(cross)(e1, e2, plane);
+      plane[3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
+      R side0 = POLY_FN(plane_side)(p0, other_vertices, tri, plane);
+      R side1 = POLY_FN(plane_side)(p1, other_vertices, tri, plane);
+      int sign0 = POLY_FN(side_sign)(side0, mine_is_b, other_vertices, tri, plane);
+      int sign1 = POLY_FN(side_sign)(side1, mine_is_b, other_vertices, tri, plane);
+      if (sign0 == sign1) return 0;
+      if (!POLY_FN(insert_record)(ws, first, &count, e, t, POLY_FN(crossing_parameter)(side0, side1), sign0))
+        return -1;
+    }
+    *num_records = first + count;
+    int *run = runs + 3 * (*num_runs)++;
+    run[0] = e;
+    run[1] = first;
+    run[2] = count;
+  }
+  return next == to ? 1 : 0;
+}
+
+/* The pass of a pair whose cache's certificate holds (B's motion since its search under the margin): the records
+ * path's sums (runs' inside parts, chords) over the cached crossings, inside vertices and edges, with the nodes in
+ * the search's order. `va`, `vb`: the pass's local vertices. Returns 1 with *out filled, 0 when the pair must be
+ * searched (no certificate, another pair's cache, moved too far, a crossing that does not hold). */
+POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
+                                      const R *vb, const double *rotation, const double *translation,
+                                      POLY_FN(overlap_workspace) *ws, POLY_FN(pass) *out)
+{
+  poly_crossing_cache *cache = ws->crossing_cache;
+  if (!(cache->margin > 0.0) || cache->shape_a != (const void *)a->vertices ||
+      cache->shape_b != (const void *)b->vertices ||
+      !(POLY_FN(cache_motion)(cache, a, b, rotation, translation) < cache->margin))
+    return 0;
+  int num_records = 0, num_runs_a = 0, num_runs_b = 0;
+  int status = POLY_FN(cache_records)(a, va, 0, b, vb, cache, 0, cache->records_b, 0, cache->edges_b, ws,
+                                      &num_records, ws->runs, &num_runs_a);
+  const int records_b = num_records;
+  int *runs_b = ws->runs + 3 * num_runs_a;
+  if (status == 1)
+    status = POLY_FN(cache_records)(b, vb, 1, a, va, cache, cache->records_b, cache->num_records, cache->edges_b,
+                                    cache->num_edges, ws, &num_records, runs_b, &num_runs_b);
+  if (status != 1) return 0;
+  /* Inside states and their nodes, as settle_inside leaves them. */
+  int num_points = 0;
+  for (int i = 0; i < a->num_vertices; i++) ws->inside_a[i] = 0;
+  for (int j = 0; j < b->num_vertices; j++) ws->inside_b[j] = 0;
+  for (int n = 0; n < cache->num_inside; n++) {
+    const int of_b = n >= cache->inside_b, v = cache->inside_vertex[n];
+    (of_b ? ws->inside_b : ws->inside_a)[v] = 1;
+    POLY_FN(add_point)(ws, &num_points, (of_b ? vb : va) + 3 * v);
+  }
+  /* Facets without apexes, B's normals in A's frame, and the triangles of A that end chords (ascending). */
+  for (int t = 0; t < a->num_triangles; t++) {
+    ws->apex_a[3 * t] = POLY_NO_APEX;
+    ws->kept_a[t] = 0;
+  }
+  for (int t = 0; t < b->num_triangles; t++) {
+    ws->apex_b[3 * t] = POLY_NO_APEX;
+    const R *normal = b->face_normals + 3 * t;
+    for (int k = 0; k < 3; k++)
+      ws->normals_b[3 * t + k] =
+          (R)(rotation[3 * k] * normal[0] + rotation[3 * k + 1] * normal[1] + rotation[3 * k + 2] * normal[2]);
+  }
+  for (int r = 0; r < num_records; r++) {
+    if (r < records_b) {
+      const int e = ws->record_edge[r];
+      ws->kept_a[a->edge_triangles[2 * e]] = ws->kept_a[a->edge_triangles[2 * e + 1]] = 1;
+    } else {
+      ws->kept_a[ws->record_triangle[r]] = 1;
+    }
+  }
+  int num_ends = 0;
+  for (int t = 0; t < a->num_triangles; t++) {
+    ws->kept_list_a[num_ends] = t;
+    num_ends += ws->kept_a[t];
+  }
+  POLY_FN(accumulator) acc = out->acc;
+  POLY_FN(run_inside_parts)(a, va, ws->inside_a, ws->runs, num_runs_a, a->face_normals, ws->apex_a, 0, NULL, ws, &acc,
+                            &num_points);
+  POLY_FN(run_inside_parts)(b, vb, ws->inside_b, runs_b, num_runs_b, ws->normals_b, ws->apex_b, 1, NULL, ws, &acc,
+                            &num_points);
+  POLY_FN(group_chord_ends)(a, b, records_b, num_records, ws->kept_list_a, num_ends, 0, ws);
+  POLY_FN(add_chords)(a, va, b, vb, records_b, ws->kept_list_a, num_ends, ws, &acc);
+  out->acc = acc;
+  out->num_points = num_points;
+  out->num_inconsistent = 0;
+  out->flush = 0;
+  out->num_kept_a = cache->num_kept_a;
+  out->num_kept_b = cache->num_kept_b;
+  ws->cache_hits++;
+  cache->hits++;
+  return 1;
+}
+
+/* Keeps records [from, to) (one body's, grouped by edge ascending, along each edge by parameter) in the cache from
+ * `at`, ascending by edge and then triangle (the order in which the search meets them, its candidates ascending). */
+POLY_INLINE void POLY_FN(cache_keep_records)(poly_crossing_cache *cache, int at, const POLY_FN(overlap_workspace) *ws,
+                                             int from, int to)
+{
+  for (int r = from; r < to; r++) {
+    int e = ws->record_edge[r], t = ws->record_triangle[r], slot = at + (r - from);
+    while (slot > at && (cache->edge[slot - 1] > e || (cache->edge[slot - 1] == e && cache->triangle[slot - 1] > t))) {
+      cache->edge[slot] = cache->edge[slot - 1];
+      cache->triangle[slot] = cache->triangle[slot - 1];
+      slot--;
+    }
+    cache->edge[slot] = e;
+    cache->triangle[slot] = t;
+  }
+}
