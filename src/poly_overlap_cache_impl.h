@@ -16,6 +16,19 @@
  * from the same predicates, and the same functions sum the same parts in the same order (cache_replay), so every
  * bit is the search's. */
 
+/* The crossing cache's certificates: at most POLY_CACHE_CAP of the two bounding radii (3e-4 and 3e-3 did no
+ * better in the rock pile of tools/bench_vs_multisphere.sh), made for pairs that moved by less than
+ * POLY_CACHE_GATE of that since their last search. */
+#ifndef POLY_CACHE_CAP
+#define POLY_CACHE_CAP 1e-3
+#endif
+/* Tests only (tests/test_crossing_cache.py): certificates inflated by this factor must be caught. */
+#ifndef POLY_CACHE_MARGIN_SCALE
+#define POLY_CACHE_MARGIN_SCALE 1
+#endif
+#ifndef POLY_CACHE_GATE
+#define POLY_CACHE_GATE 0.0625
+#endif
 /* A motion d by which x, y and z may each change (by 2d: differences of points that each move by d) while a
  * trilinear form of them with value `room` (|value| less its rounding bound) keeps its sign: the change is at most
  * (x + 2d)(y + 2d)(z + 2d) - xyz <= d (2(xy + yz + zx) + 4(x + y + z) d + 8 d^2), so for d <= least,
@@ -339,4 +352,81 @@ POLY_INLINE void POLY_FN(cache_keep_records)(poly_crossing_cache *cache, int at,
     cache->edge[slot] = e;
     cache->triangle[slot] = t;
   }
+}
+
+/* After a search with a cache given: the pose, and, for a pair that moved little since its last search (so that
+ * a certificate may last), what cache_replay needs and the certificate (none for flush faces, inconsistent edges,
+ * convex shapes, which take their own paths, or more than the cache or the nodes hold). */
+POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
+                                             const R *vb, const double *rotation, const double *translation,
+                                             const POLY_FN(filtered) *f, const int *runs_a, int num_runs_a,
+                                             const int *runs_b, int num_runs_b, int num_records, int records_b,
+                                             int num_points, int flush, int inconsistent,
+                                             POLY_FN(overlap_workspace) *ws)
+{
+  poly_crossing_cache *cache = ws->crossing_cache;
+  const double cap = POLY_CACHE_CAP * ((double)a->bounding_radius + (double)b->bounding_radius);
+  const int known = cache->shape_a == (const void *)a->vertices && cache->shape_b == (const void *)b->vertices;
+  /* A pair that moved by less than POLY_CACHE_GATE of the cap since its last search may keep a certificate for a
+   * few steps (a sixteenth: in the hopper example's flow an eighth made twice as many, serving no one). A
+   * certificate costs about a search, an evaluation from it a quarter of one: a pair whose certificate served
+   * fewer than two evaluations waits 1, 2, 4 ... 64 searches before the next. */
+  const double moved = known ? POLY_FN(cache_motion)(cache, a, b, rotation, translation) : cap;
+  const int slow = moved < POLY_CACHE_GATE * cap;
+  if (known && cache->margin > 0.0) cache->backoff = cache->hits > 1 ? 0 : (cache->backoff ? 2 * cache->backoff : 1);
+  if (cache->backoff > 64) cache->backoff = 64;
+  cache->hits = 0;
+  ws->cache_searches++;
+  cache->shape_a = (const void *)a->vertices;
+  cache->shape_b = (const void *)b->vertices;
+  for (int k = 0; k < 9; k++) cache->rotation[k] = rotation[k];
+  for (int k = 0; k < 3; k++) cache->translation[k] = translation[k];
+  cache->margin = 0.0;
+  if (!slow || flush || inconsistent || num_records == 0 || num_records > POLY_CACHE_RECORDS ||
+      num_points > ws->capacity_points || (a->face_of && b->face_of))
+    return;
+  /* The edges with inside parts (crossings, or an inside first vertex) and the inside vertices. */
+  int num_edges = 0, edges_b = 0, num_inside = 0, inside_b = 0;
+  for (int body = 0; body < 2; body++) {
+    const POLY_FN(shape_view) *mine = body ? b : a;
+    const int *runs = body ? runs_b : runs_a, count = body ? num_runs_b : num_runs_a;
+    const unsigned char *inside = body ? ws->inside_b : ws->inside_a;
+    if (body) edges_b = num_edges, inside_b = num_inside;
+    for (int r = 0; r < count; r++) {
+      const int *run = runs + 3 * r;
+      if (run[2] == 0 && !inside[mine->edges[2 * run[0]]]) continue;
+      if (num_edges == POLY_CACHE_EDGES) return;
+      cache->inside_edge[num_edges++] = run[0];
+    }
+    for (int v = 0; v < mine->num_vertices; v++) {
+      if (!inside[v]) continue;
+      if (num_inside == POLY_CACHE_INSIDE) return;
+      cache->inside_vertex[num_inside++] = v;
+    }
+  }
+  if (cache->skip > 0) {
+    cache->skip--;
+    return;
+  }
+  cache->skip = cache->backoff;
+  double margin = POLY_FN(cache_certificate_way)(a, va, ws->along_a, b, vb, ws->along_b, 0, (double)f->limit_a,
+                                                 (double)f->limit_b, (double)f->tolerance, cap, ws);
+  if (margin > 0.0) {
+    double other = POLY_FN(cache_certificate_way)(b, vb, ws->along_b, a, va, ws->along_a, 1, (double)f->limit_b,
+                                                  (double)f->limit_a, (double)f->tolerance, cap, ws);
+    margin = other < margin ? other : margin;
+  }
+  ws->cache_certificates++;
+  if (!(margin > 0.0)) return;
+  POLY_FN(cache_keep_records)(cache, 0, ws, 0, records_b);
+  POLY_FN(cache_keep_records)(cache, records_b, ws, records_b, num_records);
+  cache->num_records = num_records;
+  cache->records_b = records_b;
+  cache->num_edges = num_edges;
+  cache->edges_b = edges_b;
+  cache->num_inside = num_inside;
+  cache->inside_b = inside_b;
+  cache->num_kept_a = f->num_kept_a;
+  cache->num_kept_b = f->num_kept_b;
+  cache->margin = POLY_CACHE_MARGIN_SCALE * margin;
 }

@@ -49,7 +49,9 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     double shift = stage == 2 ? smoothing : (stage == 3 ? -smoothing : 0.0);
     for (int k = 0; k < 3; k++) moved[k] = translation[k] + shift * (double)u[k];
     int keep_points = stage < 2 || stage == 4;
+#if POLY_OVERLAP_RECORDS
     ws->cache_pass = stage == 0 && use_filter;
+#endif
     POLY_FN(overlap_pass)(a, b, rotation, moved, stage == 1 ? 0 : use_filter, stage < 2 ? flush_tolerance : 0.0,
                           keep_points, ws, keep_points ? &main_pass : &shifted);
     if (stage == 0 && main_pass.num_inconsistent > 0 && use_filter) {
@@ -71,9 +73,11 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
     }
     break;
   }
+#if POLY_OVERLAP_RECORDS
   ws->cache_pass = 0;
   /* A pair evaluated again (inconsistent edges, flush faces) keeps no certificate. */
   if ((result->recomputed || result->smoothed) && ws->crossing_cache) ws->crossing_cache->margin = 0.0;
+#endif
   if (result->smoothed) {
     main_pass.acc.area = area;
     for (int k = 0; k < 3; k++) main_pass.acc.area_normal[k] = area_normal[k];
