@@ -364,6 +364,10 @@ void PairPolyhedralVolumetric::free_shape_views()
 void PairPolyhedralVolumetric::build_shape_views()
 {
   free_shape_views();
+  // The crossing caches name their shapes by the views' vertex arrays, which new views may reuse.
+  crossing_cache_of.clear();
+  crossing_cache_pool.clear();
+  crossing_cache_free.clear();
   int count = 0;
   for (int s = 1; FixParticletemplatePolyhedron::find(lmp, s); s++) count = s;
   if (count != FixParticletemplatePolyhedron::count(lmp))
