@@ -682,7 +682,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
 
 #if POLY_OVERLAP_RECORDS
   /* A contact whose crossings are certified since its last search: their sums without the filter and search. */
-  if (ws->cache_pass && ws->crossing_cache && POLY_FN(cache_replay)(a, va, b, vb, rotation, translation, ws, out)) {
+  if (ws->cache_pass && ws->crossing_cache && ws->use_records &&
+      POLY_FN(cache_replay)(a, va, b, vb, rotation, translation, ws, out)) {
     ws->capacity_points = capacity_points;
     return;
   }
