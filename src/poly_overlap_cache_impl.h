@@ -75,7 +75,8 @@ POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R 
   if (tolerance > 0.0) {
     R plane[3];
     POLY_FN(cross)(e1, e2, plane);
-    const double reach = tolerance * (double)POLY_FN(norm1)(plane);
+    /* Twice the reach: B's turn changes its planes' 1-norms (by far less than their size). */
+    const double reach = 2.0 * tolerance * (double)POLY_FN(norm1)(plane);
     /* Both ends within the reach would send the pair to the flush test: one must stay beyond it. */
     int f0, f1;
     double r0 = POLY_FN(cache_det_margin)(e1, e2, c0, s0, reach, least, &f0);
@@ -120,20 +121,34 @@ POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R 
   return flush < margin ? flush : margin;
 }
 
+/* How far, along the slab's axis, a point's place against the other body's extreme may move while B moves by d <
+ * cap (translation T of B in A's frame): by d itself, and by the axis (the centre line, T / |T|) turning by up to
+ * 2 d / |T| at points up to r_A + r_B + |T| from A's centre; twice that, and 2 cap for the two bodies' motion. */
+POLY_INLINE double POLY_FN(cache_band)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                       const double *translation, double cap)
+{
+  const double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
+                               translation[2] * translation[2]);
+  const double size = (double)a->bounding_radius + (double)b->bounding_radius;
+  if (!(distance > 1e-3 * size)) return 1e300; /* centres nearly together: the axis may turn anywhere */
+  return 2.0 * cap + 2.0 * cap * (1.0 + 2.0 * (size + distance) / distance);
+}
+
 /* The certificate of one way (edges of `mine` against triangles of `other`): the least pair margin, at most cap,
- * over the pairs that could meet while each body moves by less than cap (their boxes within 2 cap, both within
- * 2 cap of the slab's other side); 0 as soon as one pair's is. */
+ * over the pairs the search could test while each body moves by less than cap (their boxes within 2 cap, both
+ * within `band` of the slab's other side); 0 as soon as one pair's is. */
 POLY_INLINE double POLY_FN(cache_certificate_way)(const POLY_FN(shape_view) *mine, const R *my_vertices,
                                                   const R *my_along, const POLY_FN(shape_view) *other,
                                                   const R *other_vertices, const R *other_along, int mine_is_b,
                                                   double limit_mine, double limit_other, double tolerance,
-                                                  double cap, POLY_FN(overlap_workspace) *ws)
+                                                  double cap, double band, POLY_FN(overlap_workspace) *ws)
 {
   /* Along the slab's axis (a unit vector), B lies at >= limit_a and A at <= limit_b: a point of `mine` short of
-   * its limit by more than 2 cap, or of `other` beyond its own, stays out of the other body while each moves by
-   * less than cap, and so does an edge or a triangle all of whose points are. */
-  const double sign = mine_is_b ? -1.0 : 1.0, reach_mine = sign * limit_mine - 2.0 * cap,
-               reach_other = -sign * limit_other - 2.0 * cap;
+   * its limit by more than `band`, or of `other` beyond its own, is neither in a later pose's slab (whose axis
+   * turns with the centre line: cache_band) nor able to meet the other body, and so is an edge or a triangle all
+   * of whose points are: the search tests no pair of them, not even for flush faces. */
+  const double sign = mine_is_b ? -1.0 : 1.0, reach_mine = sign * limit_mine - band,
+               reach_other = -sign * limit_other - band;
   /* The other's triangles in that band, with their boxes and the box of them all; then my edges in my band, with
    * theirs (the boxes in the convex path's side table, the lists in the grid's: both free here). */
   int *near = ws->grid_candidates, *edges = ws->grid_entries, num_near = 0, num_edges = 0;
@@ -409,11 +424,12 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
     return;
   }
   cache->skip = cache->backoff;
+  const double band = POLY_FN(cache_band)(a, b, translation, cap);
   double margin = POLY_FN(cache_certificate_way)(a, va, ws->along_a, b, vb, ws->along_b, 0, (double)f->limit_a,
-                                                 (double)f->limit_b, (double)f->tolerance, cap, ws);
+                                                 (double)f->limit_b, (double)f->tolerance, cap, band, ws);
   if (margin > 0.0) {
     double other = POLY_FN(cache_certificate_way)(b, vb, ws->along_b, a, va, ws->along_a, 1, (double)f->limit_b,
-                                                  (double)f->limit_a, (double)f->tolerance, cap, ws);
+                                                  (double)f->limit_a, (double)f->tolerance, cap, band, ws);
     margin = other < margin ? other : margin;
   }
   ws->cache_certificates++;
