@@ -198,38 +198,6 @@ POLY_INLINE int POLY_FN(insert_record)(POLY_FN(overlap_workspace) *ws, int first
   return 1;
 }
 
-/* The edges of `mine`'s kept triangles, as bits of ws->edge_mask (all edges when the shape lists no triangle
- * edges); returns the mask's words. An edge in the slab has an end in it, so both its triangles are kept: these,
- * in ascending order as the reference path takes them (rocks: a fifth of the edges), rather than all. */
-POLY_INLINE int POLY_FN(kept_edge_mask)(const POLY_FN(shape_view) *mine, const int *my_kept_list, int my_num_kept,
-                                        POLY_FN(overlap_workspace) *ws)
-{
-  const int words = (mine->num_edges + 31) / 32;
-  unsigned *mask = ws->edge_mask;
-  for (int w = 0; w < words; w++) mask[w] = mine->triangle_edges ? 0u : ~0u;
-  if (mine->num_edges % 32) mask[words - 1] &= ~0u >> (32 - mine->num_edges % 32);
-  if (mine->triangle_edges)
-    for (int n = 0; n < my_num_kept; n++)
-      for (int k = 0; k < 3; k++) {
-        int e = mine->triangle_edges[3 * my_kept_list[n] + k];
-        mask[e >> 5] |= 1u << (e & 31);
-      }
-  return words;
-}
-
-/* Whether edge p0 p1 (vertices v0 v1 of `mine`, places along the axis d0 d1) is one the crossing search tests:
- * an end reaches the slab and its box meets the boxes' common part. */
-POLY_INLINE int POLY_FN(edge_tested)(int mine_is_b, R d0, R d1, R slab_limit, const R *p0, const R *p1,
-                                     const R *near_box, R *low, R *high)
-{
-  /* The other body lies beyond slab_limit along +axis (my_along) for A, below it for B. */
-  if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) return 0;
-  POLY_FN(segment_bounds)(p0, p1, low, high);
-  /* An edge whose box misses the boxes' common part meets no candidate's box, and both its ends lie outside
-   * the other's box: no record, no inside part, nothing for settle_inside to carry. */
-  return POLY_FN(boxes_overlap)(low, high, near_box);
-}
-
 /* Records of the edges of `mine` in the slab crossing kept triangles of
  * `other`, sorted along each edge: one run (edge, first record, count) per edge
  * tested (not those with both ends short of `slab_limit`, their vertices'
@@ -250,16 +218,31 @@ POLY_INLINE int POLY_FN(find_crossings)(const POLY_FN(shape_view) *mine, const R
   POLY_FN(grid) grid = {{0, 0, 0}, {0, 0, 0}, 0};
   int gridded = other_num_kept >= POLY_GRID_MIN_KEPT &&
                 POLY_FN(grid_build)(ws, other_bounds, other_kept_list, other_num_kept, &grid) == 0;
-  const int words = POLY_FN(kept_edge_mask)(mine, my_kept_list, my_num_kept, ws);
-  const unsigned *mask = ws->edge_mask;
+  /* An edge in the slab has an end in it, so both its triangles are kept: the edges of the kept triangles, in
+   * ascending order as the reference path takes them (rocks: a fifth of the edges), rather than all. */
+  const int words = (mine->num_edges + 31) / 32;
+  unsigned *mask = ws->edge_mask;
+  for (int w = 0; w < words; w++) mask[w] = mine->triangle_edges ? 0u : ~0u;
+  if (mine->num_edges % 32) mask[words - 1] &= ~0u >> (32 - mine->num_edges % 32);
+  if (mine->triangle_edges)
+    for (int n = 0; n < my_num_kept; n++)
+      for (int k = 0; k < 3; k++) {
+        int e = mine->triangle_edges[3 * my_kept_list[n] + k];
+        mask[e >> 5] |= 1u << (e & 31);
+      }
   for (int w = 0; w < words; w++)
     for (unsigned bits = mask[w]; bits; bits &= bits - 1) {
       int e = 32 * w + poly_clip_lowest_bit(bits);
       int v0 = mine->edges[2 * e], v1 = mine->edges[2 * e + 1];
       const R *p0 = my_vertices + 3 * v0, *p1 = my_vertices + 3 * v1;
+      R d0 = my_along[v0], d1 = my_along[v1];
+      /* The other body lies beyond slab_limit along +axis (my_along) for A, below it for B. */
+      if (!mine_is_b ? (d0 < slab_limit && d1 < slab_limit) : (d0 > slab_limit && d1 > slab_limit)) continue;
       R low[3], high[3];
-      if (!POLY_FN(edge_tested)(mine_is_b, my_along[v0], my_along[v1], slab_limit, p0, p1, near_box, low, high))
-        continue;
+      POLY_FN(segment_bounds)(p0, p1, low, high);
+      /* An edge whose box misses the boxes' common part meets no candidate's box, and both its ends lie outside
+       * the other's box: no record, no inside part, nothing for settle_inside to carry. */
+      if (!POLY_FN(boxes_overlap)(low, high, near_box)) continue;
       int first = *num_records, count = 0;
       const int *candidates = other_kept_list;
       int num_candidates = other_num_kept;
@@ -525,7 +508,7 @@ POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va,
   if (a->num_edges + b->num_edges > ws->capacity_runs) return -1;
   const int mask_words = POLY_EDGE_MASK_WORDS(ws->capacity_triangles);
   if ((a->num_edges + 31) / 32 > mask_words || (b->num_edges + 31) / 32 > mask_words) return -1;
-  int num_records = 0, num_runs_a = 0, num_runs_b = 0, flush = 0, records_b = 0;
+  int num_records = 0, num_runs_a = 0, num_runs_b = 0, flush = 0;
   /* Every crossing, and every flush pair of faces (found through the same box tests), lies in both bodies' boxes
    * of kept triangles: an edge of one in the slab is in its kept triangles' box. So the crossings need only the
    * triangles whose box meets the common part (rocks resting on each other: about a third of the kept ones). */
@@ -544,8 +527,7 @@ POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va,
                               ws->planes_b, ws->bounds_b, ws->normals_b, ws->near_list_b, num_near_b, f->limit_a,
                               near_box, f->tolerance, ws, &num_records, runs_a, &num_runs_a, &flush))
     return -1;
-  records_b = num_records;
-  int *runs_b = runs_a + 3 * num_runs_a;
+  int records_b = num_records, *runs_b = runs_a + 3 * num_runs_a;
   if (POLY_FN(find_crossings)(b, vb, ws->along_b, ws->planes_b, ws->bounds_b, ws->normals_b, 1, ws->kept_list_b,
                               f->num_kept_b, a, va,
                               ws->planes_a, ws->bounds_a, a->face_normals, ws->near_list_a, num_near_a, f->limit_b,

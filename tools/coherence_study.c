@@ -1,5 +1,5 @@
 /* How long a contact's crossing structure lasts in a settled pile: the measurement behind the design of a
- * narrow phase that reuses it from step to step (doc/benchmarks.md, "Temporal coherence in a settled pile").
+ * narrow phase that reuses it from step to step (doc/benchmarks.md, "Eleventh step: the crossing cache").
  *
  *   bash tools/coherence_study.sh [cube|rock] [steps]     (forms the pile, dumps every step, runs this)
  *   coherence_study SHAPES_DIR SHAPE_FILE SCALE DUMP
