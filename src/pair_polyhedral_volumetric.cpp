@@ -41,7 +41,7 @@ PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
 {
   degenerate.smoothed = degenerate.recomputed = degenerate.inconsistent = 0.0;
   evaluations.candidates = evaluations.hinted = evaluations.contacts = evaluations.parted = 0.0;
-  evaluations.near_misses = evaluations.from_cache = 0.0;
+  evaluations.near_misses = evaluations.from_cache = evaluations.misses_from_cache = 0.0;
   single_enable = 0;
   restartinfo = 1;
   no_virial_fdotr_compute = 1;
@@ -602,7 +602,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
       double *history = all_history ? &all_history[POLY_HISTORY_SIZE * jj] : NULL;
       double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
       double reach = radius[i] + radius[j];
-      bool in_contact = false;
+      bool in_contact = false, near_miss = false;
       poly_overlap_result geometry;
       if (dx * dx + dy * dy + dz * dz < reach * reach) {
         int si = atom->shapetype[i], sj = atom->shapetype[j];
@@ -627,7 +627,9 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
           double volume_i = rmass[i] / density[i], volume_j = rmass[j] / density[j];
           double negligible = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
           in_contact = geometry.volume > negligible && geometry.depth > 0.0;
+          near_miss = !in_contact && !geometry.filtered_out;
           if (in_contact && from_cache) evaluations.from_cache++;
+          if (near_miss && from_cache) evaluations.misses_from_cache++;
           if (in_contact) evaluations.contacts++;
           else if (geometry.filtered_out) evaluations.parted++;
           else evaluations.near_misses++;
@@ -636,7 +638,8 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
         }
       }
       if (!in_contact) {
-        if (crossing_cache) release_crossing_cache(hint_offset[ii] + jj);
+        // A near miss keeps its cache: its empty search may be certified as a contact's crossings are.
+        if (crossing_cache && !near_miss) release_crossing_cache(hint_offset[ii] + jj);
         // A pair that was not touching has zero history already: LIGGGHTS' lists
         // give new pairs zeros, and a pair leaving contact is cleared here.
         if (history && (!touch || touch[jj]))

@@ -60,6 +60,7 @@ class PairPolyhedralVolumetric : public Pair {
   struct EvaluationCounts {
     double candidates, hinted, contacts, parted, near_misses;
     double from_cache;  // contacts evaluated from their certified crossings (crossing_cache)
+    double misses_from_cache;  // near misses evaluated from their certified (empty) search
   };
   const EvaluationCounts &evaluation_counts() const { return evaluations; }
 
@@ -127,8 +128,8 @@ class PairPolyhedralVolumetric : public Pair {
   bool begin_compute(int eflag, int vflag);
   void poses(int i, int j, poly_pose *pose_i, poly_pose *pose_j) const;
   void overlap(int i, int j, poly_overlap_result *result, poly_crossing_cache *cache = NULL);
-  // Per neighbour pair in contact, its crossing cache (poly_crossing_cache): crossing_cache_of, laid out as the
-  // hints, indexes the pool (-1: none); entries of pairs that part go to the free list.
+  // Per neighbour pair in contact or a near miss, its crossing cache (poly_crossing_cache): crossing_cache_of, laid
+  // out as the hints, indexes the pool (-1: none); entries of pairs that part go to the free list.
   std::vector<int> crossing_cache_of, crossing_cache_free;
   std::vector<poly_crossing_cache> crossing_cache_pool;
   int new_crossing_cache();

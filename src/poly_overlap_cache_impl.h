@@ -14,7 +14,8 @@
  * other body (a vertex changes sides only where an edge of it changes crossings) and the edges with inside parts.
  * The next evaluations then skip the filter, the search and the inside states: each crossing's parameter comes
  * from the same predicates, and the same functions sum the same parts in the same order (cache_replay), so every
- * bit is the search's. */
+ * bit is the search's. A near miss (no crossing, no vertex inside: bodies apart that the filter did not part) is
+ * certified the same way, and its evaluations return the empty pass. */
 
 /* The crossing cache's certificates: at most POLY_CACHE_CAP of the two bounding radii (3e-4 and 3e-3 did no
  * better in the rock pile of tools/bench_vs_multisphere.sh), made for pairs that moved by less than
@@ -291,6 +292,16 @@ POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va,
       cache->shape_b != (const void *)b->vertices ||
       !(POLY_FN(cache_motion)(cache, a, b, rotation, translation) < cache->margin))
     return 0;
+  if (cache->num_records == 0 && cache->num_edges == 0 && cache->num_inside == 0) {
+    /* A near miss (bodies apart, though no plane of the filter parts them): its search found nothing, and the
+     * pass's sums stay empty, as they would. */
+    out->num_points = out->num_inconsistent = out->flush = 0;
+    out->num_kept_a = cache->num_kept_a;
+    out->num_kept_b = cache->num_kept_b;
+    ws->cache_hits++;
+    cache->hits++;
+    return 1;
+  }
   int num_records = 0, num_runs_a = 0, num_runs_b = 0;
   int status = POLY_FN(cache_records)(a, va, 0, b, vb, cache, 0, cache->records_b, 0, cache->edges_b, ws,
                                       &num_records, ws->runs, &num_runs_a);
@@ -397,7 +408,7 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
   for (int k = 0; k < 9; k++) cache->rotation[k] = rotation[k];
   for (int k = 0; k < 3; k++) cache->translation[k] = translation[k];
   cache->margin = 0.0;
-  if (!slow || flush || inconsistent || num_records == 0 || num_records > POLY_CACHE_RECORDS ||
+  if (!slow || flush || inconsistent || num_records > POLY_CACHE_RECORDS ||
       num_points > ws->capacity_points || (a->face_of && b->face_of))
     return;
   /* The edges with inside parts (crossings, or an inside first vertex) and the inside vertices. */

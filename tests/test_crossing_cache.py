@@ -9,7 +9,8 @@ order, so every result bit must be the search's.
   comparison can fail.
 - A pile of 80 rock_40 (examples/bench_multisphere/in.pile_poly, fewer particles and steps) with `crossing_cache on`
   and `off`, on one rank and on two: the same thermo output to the digits printed, and compute
-  pair/polyhedral/local's ninth element counting contacts evaluated from the cache (none with it off).
+  pair/polyhedral/local's ninth and tenth elements counting contacts and near misses evaluated from the cache (none
+  with it off).
 
 Run with Debian's python3:  /usr/bin/python3 -m pytest tests/test_crossing_cache.py -q
 """
@@ -39,9 +40,9 @@ def driver(tmp_path_factory):
     return build_driver(tmp_path_factory.mktemp("cache"))
 
 
-def run(binary, shape, precision, sequences=40, steps=200):
-    out = subprocess.run([binary, os.path.join(SHAPES, shape), str(sequences), str(steps), precision],
-                         capture_output=True, text=True, check=True)
+def run(binary, shape, precision, sequences=40, steps=200, start="contact"):
+    out = subprocess.run([binary, os.path.join(SHAPES, shape), str(sequences), str(steps), precision]
+                         + (["near"] if start == "near" else []), capture_output=True, text=True, check=True)
     words = out.stdout.split()
     return dict(zip(words[0::2], (int(w) for w in words[1::2]))), out.stderr
 
@@ -61,6 +62,19 @@ def test_evaluations_from_the_cache_give_the_search_bits(driver, shape, precisio
     # Slow sequences keep their certificates for many steps: a good part of the evaluations come from the cache.
     assert counts["hits"] > 0.3 * counts["evaluations"]
     assert counts["hits"] + counts["searches"] == counts["evaluations"]
+
+
+@pytest.mark.parametrize("shape,precision", [("rock_40.obj", "double"), ("rock_40.obj", "single"),
+                                             ("rock_70.obj", "double")])
+def test_near_misses_from_the_cache_give_the_search_bits(driver, shape, precision):
+    """Walks from just beyond touching: near misses (apart, though the filter does not part them) keep their empty
+    search under a certificate as contacts keep their crossings, and come out the same bits."""
+    counts, errors = run(driver, shape, precision, start="near")
+    print(f"\n{shape} {precision}, from near misses: {counts}")
+    assert counts["differ"] == 0, errors
+    assert counts["misses"] > 0.2 * counts["evaluations"]
+    assert counts["contacts"] > 0.2 * counts["evaluations"]
+    assert counts["miss_hits"] > 0.2 * counts["misses"]
 
 
 @pytest.mark.parametrize("shape", ["rock_1000.obj", "cube.stl"])
@@ -83,7 +97,8 @@ def pile_deck(cache):
     text = text.replace("pair_style      polyhedral/volumetric\n",
                         f"pair_style      polyhedral/volumetric crossing_cache {cache}\n")
     text = text.replace("pair_coeff      * *\n", "pair_coeff      * *\ncompute ev all pair/polyhedral/local\n")
-    return text + ("thermo_style custom step atoms c_ev[6] c_ev[9]\nthermo_modify format float %.15g\nrun 1\n")
+    return text + ("thermo_style custom step atoms c_ev[6] c_ev[8] c_ev[9] c_ev[10]\n"
+                   "thermo_modify format float %.15g\nrun 1\n")
 
 
 @pytest.mark.parametrize("nprocs", [1, 2])
@@ -96,12 +111,16 @@ def test_a_pile_of_rocks_runs_the_same_with_and_without_the_cache(run_deck, tmp_
         assert result.returncode == 0, result.output[-3000:]
         # The deck's own thermo columns (kinetic energy, extent of the centres), then the counts' table.
         outputs[cache] = result.thermo("Step", "v_ke", "v_xmin", "v_xmax", "v_ymin", "v_ymax", "v_zmin", "v_zmax")
-        table = result.thermo("Step", "c_ev[6]", "c_ev[9]")
-        counts[cache] = (table["c_ev[6]"][-1], table["c_ev[9]"][-1])
-    print(f"\n{nprocs} rank(s): contacts and those from the cache, on {counts['on']}, off {counts['off']}")
+        table = result.thermo("Step", "c_ev[6]", "c_ev[8]", "c_ev[9]", "c_ev[10]")
+        counts[cache] = tuple(table[column][-1] for column in ("c_ev[6]", "c_ev[9]", "c_ev[8]", "c_ev[10]"))
+    print(f"\n{nprocs} rank(s): contacts, those from the cache, near misses, those from the cache: "
+          f"on {counts['on']}, off {counts['off']}")
     assert len(outputs["on"]["Step"]) > 10
     assert outputs["on"] == outputs["off"]
-    assert counts["off"][1] == 0
+    assert counts["off"][1] == 0 and counts["off"][3] == 0
     assert counts["on"][0] == counts["off"][0]
+    assert counts["on"][2] == counts["off"][2]
+    # Near misses at rest keep their empty search too.
+    assert counts["on"][3] > 0.15 * counts["on"][2]
     # The pile comes to rest in the last third of the run: a good part of its contacts from the cache (29 % here).
     assert counts["on"][1] > 0.15 * counts["on"][0]

@@ -3,13 +3,16 @@
  * that keeps the pair's cache from step to step and by one without a cache; every result field must be the same
  * bits.
  *
- *   crossing_cache SHAPE_FILE SEQUENCES STEPS double|single|mixed
+ *   crossing_cache SHAPE_FILE SEQUENCES STEPS double|single|mixed [near]
  *
  * Each sequence: both bodies randomly turned, B along a random direction at the distance that gives an overlap of
  * 0.1 % to 3 % of the volume, then STEPS steps of a random walk of B (translation and rotation, each step's size
  * log-uniform from 1e-7 to 1e-3 of the size per sequence, so that some certificates last and some do not), with a
- * jump of 1e-2 of the size one step in 40. Prints the evaluations, those whose results differ, the cache's hits,
- * searches and certificates. */
+ * jump of 1e-2 of the size one step in 40. With `near`, each sequence starts from a near miss instead: B just
+ * beyond touching (a gap of 1e-5 to 1e-3 of the size along the direction), where no plane of the filter parts the
+ * bodies though they do not overlap, so that the walk's evaluations are near misses and contacts. Prints the
+ * evaluations, the contacts, the near misses, those whose results differ, the cache's hits (and those of near
+ * misses), searches and certificates. */
 #define _POSIX_C_SOURCE 199309L
 #include <string.h>
 
@@ -49,12 +52,12 @@ static int same_bits(const poly_overlap_result *x, const poly_overlap_result *y)
 int main(int argc, char **argv)
 {
   if (argc < 5) {
-    fprintf(stderr, "usage: crossing_cache SHAPE_FILE SEQUENCES STEPS double|single|mixed\n");
+    fprintf(stderr, "usage: crossing_cache SHAPE_FILE SEQUENCES STEPS double|single|mixed [near]\n");
     return 2;
   }
   poly_shape shape;
   if (load_shape(".", argv[1], 1.0, &shape)) return 1;
-  const int sequences = atoi(argv[2]), steps = atoi(argv[3]);
+  const int sequences = atoi(argv[2]), steps = atoi(argv[3]), near = argc > 5 && !strcmp(argv[5], "near");
   precision = !strcmp(argv[4], "single") ? POLY_PRECISION_SINGLE
                                          : (!strcmp(argv[4], "mixed") ? POLY_PRECISION_MIXED : POLY_PRECISION_DOUBLE);
   view_d = poly_shape_view_of(&shape);
@@ -71,20 +74,29 @@ int main(int argc, char **argv)
   poly_crossing_cache cache;
   cached_d.crossing_cache = cached_f.crossing_cache = &cache;
   const double size = 2.0 * shape.bounding_radius, volume = shape.volume;
-  long evaluations = 0, differ = 0, contacts = 0;
+  long evaluations = 0, differ = 0, contacts = 0, misses = 0, miss_hits = 0;
   for (int s = 0; s < sequences; s++) {
     poly_pose a = {{0, 0, 0}, {1, 0, 0, 0}}, b;
-    random_quaternion(a.quaternion);
-    random_quaternion(b.quaternion);
-    double direction[3], low = 0.0, high = size, target = pow(10.0, -3.0 + 1.5 * uniform());
-    random_unit(direction);
-    for (int i = 0; i < 60; i++) {
-      double middle = 0.5 * (low + high);
-      for (int k = 0; k < 3; k++) b.position[k] = middle * direction[k];
+    for (int attempt = 0; attempt < 1000; attempt++) {
+      random_quaternion(a.quaternion);
+      random_quaternion(b.quaternion);
+      double direction[3], low = 0.0, high = size, target = near ? 0.0 : pow(10.0, -3.0 + 1.5 * uniform());
+      random_unit(direction);
+      for (int i = 0; i < 60; i++) {
+        double middle = 0.5 * (low + high);
+        for (int k = 0; k < 3; k++) b.position[k] = middle * direction[k];
+        poly_overlap_result r;
+        evaluate(&a, &b, &plain_d, &plain_f, &r);
+        if (r.volume > target * volume) low = middle;
+        else high = middle;
+      }
+      if (!near) break;
+      /* Just beyond touching: a near miss when the filter does not part them (else another pose). */
+      const double gap = size * pow(10.0, -5.0 + 2.0 * uniform());
+      for (int k = 0; k < 3; k++) b.position[k] = (high + gap) * direction[k];
       poly_overlap_result r;
       evaluate(&a, &b, &plain_d, &plain_f, &r);
-      if (r.volume > target * volume) low = middle;
-      else high = middle;
+      if (!r.filtered_out && !(r.volume > 0.0)) break;
     }
     memset(&cache, 0, sizeof cache);
     const double pace = size * pow(10.0, -7.0 + 4.0 * uniform());
@@ -101,10 +113,14 @@ int main(int argc, char **argv)
       double norm = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
       for (int k = 0; k < 4; k++) b.quaternion[k] = q[k] / norm;
       poly_overlap_result with, without;
+      const long hits_before = cached_d.cache_hits + cached_f.cache_hits;
       evaluate(&a, &b, &cached_d, &cached_f, &with);
       evaluate(&a, &b, &plain_d, &plain_f, &without);
       evaluations++;
       contacts += without.volume > 0.0;
+      const int miss = !without.filtered_out && !(without.volume > 0.0);
+      misses += miss;
+      miss_hits += miss && cached_d.cache_hits + cached_f.cache_hits > hits_before;
       if (!same_bits(&with, &without)) {
         if (differ < 5)
           fprintf(stderr, "sequence %d step %d: volume %.17g against %.17g\n", s, t, with.volume, without.volume);
@@ -113,8 +129,8 @@ int main(int argc, char **argv)
     }
   }
   const int single = precision != POLY_PRECISION_DOUBLE;
-  printf("evaluations %ld contacts %ld differ %ld hits %ld searches %ld certificates %ld\n", evaluations, contacts,
-         differ, single ? cached_f.cache_hits : cached_d.cache_hits,
+  printf("evaluations %ld contacts %ld misses %ld differ %ld hits %ld miss_hits %ld searches %ld certificates %ld\n",
+         evaluations, contacts, misses, differ, single ? cached_f.cache_hits : cached_d.cache_hits, miss_hits,
          single ? cached_f.cache_searches : cached_d.cache_searches,
          single ? cached_f.cache_certificates : cached_d.cache_certificates);
   poly_overlap_workspace_destroy_d(&cached_d);
