@@ -93,6 +93,7 @@ typedef struct poly_overlap_result {
 #define POLY_CACHE_RECORDS 32
 #define POLY_CACHE_EDGES 48
 #define POLY_CACHE_INSIDE 32
+#define POLY_CACHE_WATCH 32
 typedef struct poly_crossing_cache {
   const void *shape_a, *shape_b;   /* the shapes it was made for (their vertex arrays) */
   double rotation[9], translation[3]; /* B's pose in A's body frame at that search */
@@ -106,6 +107,12 @@ typedef struct poly_crossing_cache {
   int edge[POLY_CACHE_RECORDS], triangle[POLY_CACHE_RECORDS]; /* ascending by edge, then triangle */
   int inside_edge[POLY_CACHE_EDGES]; /* ascending within each body */
   int inside_vertex[POLY_CACHE_INSIDE]; /* ascending within each body */
+  /* The edge-triangle pairs whose decisions the certificate does not cover (their margins below it), ascending by
+   * margin: each decided again, by the search's predicates, once B's motion reaches its margin. */
+  int num_watch;
+  int watch_edge[POLY_CACHE_WATCH], watch_triangle[POLY_CACHE_WATCH]; /* edge of A (of B when watch_of_b) */
+  unsigned char watch_of_b[POLY_CACHE_WATCH], watch_crosses[POLY_CACHE_WATCH];
+  double watch_margin[POLY_CACHE_WATCH];
 } poly_crossing_cache;
 
 #define POLY_OVERLAP_DECLARE(REAL, SUFFIX)                                                            \

@@ -41,16 +41,6 @@ POLY_INLINE int POLY_FN(block_faces)(const POLY_FN(shape_view) *body, int *faces
   return count;
 }
 
-/* Plane of triangle t for the predicates, as prepare_kept_triangle makes it. */
-POLY_INLINE void POLY_FN(block_plane)(const R *vertices, const int *tri, R *plane)
-{
-  R e1[3], e2[3];
-  POLY_FN(sub)(vertices + 3 * tri[1], vertices + 3 * tri[0], e1);
-  POLY_FN(sub)(vertices + 3 * tri[2], vertices + 3 * tri[0], e2);
-  POLY_FN(cross)(e1, e2, plane);
-  plane[3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
-}
-
 /* The side table of `mine`'s vertices against `other`'s faces (a row of
  * `stride` >= num_faces per vertex) and their masks: plane_side and
  * side_sign, term for term, on the faces' corners, planes and error bounds
@@ -208,7 +198,7 @@ POLY_INLINE int POLY_FN(block_flush)(const POLY_FN(shape_view) *a, const R *va, 
         if (a->face_of[t] != f) continue;
         const int *tri_t = a->triangles + 3 * t;
         R plane_t[4], box_t[6];
-        POLY_FN(block_plane)(va, tri_t, plane_t);
+        POLY_FN(triangle_plane)(va, tri_t, plane_t);
         POLY_FN(triangle_bounds)(va, tri_t, box_t, box_t + 3);
         for (int k = 0; k < 3; k++) {
           box_t[k] -= tolerance;
@@ -224,7 +214,7 @@ POLY_INLINE int POLY_FN(block_flush)(const POLY_FN(shape_view) *a, const R *va, 
             box_u[3 + k] += tolerance;
           }
           if (!POLY_FN(boxes_overlap)(box_t, box_t + 3, box_u)) continue;
-          POLY_FN(block_plane)(vb, tri_u, plane_u);
+          POLY_FN(triangle_plane)(vb, tri_u, plane_u);
           const R *m = b->face_normals + 3 * u;
           for (int k = 0; k < 3; k++)
             normal_u[k] = (R)(rotation[3 * k] * m[0] + rotation[3 * k + 1] * m[1] + rotation[3 * k + 2] * m[2]);
@@ -341,12 +331,12 @@ POLY_INLINE int POLY_FN(blocks_path)(const POLY_FN(shape_view) *a, const R *va, 
   if (num_faces_a < 0 || num_faces_b < 0) return -2; /* more faces than a mask holds: the convex path's */
   for (int c = 0; c < num_faces_a; c++) {
     int f = faces_a[c];
-    POLY_FN(block_plane)(va, a->triangles + 3 * f, ws->planes_a + 4 * f);
+    POLY_FN(triangle_plane)(va, a->triangles + 3 * f, ws->planes_a + 4 * f);
     ws->apex_a[3 * f] = POLY_NO_APEX;
   }
   for (int c = 0; c < num_faces_b; c++) {
     int g = faces_b[c];
-    POLY_FN(block_plane)(vb, b->triangles + 3 * g, ws->planes_b + 4 * g);
+    POLY_FN(triangle_plane)(vb, b->triangles + 3 * g, ws->planes_b + 4 * g);
     ws->apex_b[3 * g] = POLY_NO_APEX;
   }
   unsigned long long masks_a[POLY_BLOCK_MAX], masks_b[POLY_BLOCK_MAX];

@@ -17,9 +17,9 @@
  * bit is the search's. A near miss (no crossing, no vertex inside: bodies apart that the filter did not part) is
  * certified the same way, and its evaluations return the empty pass. */
 
-/* The crossing cache's certificates: at most POLY_CACHE_CAP of the two bounding radii (3e-4 and 3e-3 did no
- * better in the rock pile of tools/bench_vs_multisphere.sh), made for pairs that moved by less than
- * POLY_CACHE_GATE of that since their last search. */
+/* The crossing cache's cap: POLY_CACHE_CAP of the two bounding radii (3e-4 and 3e-3 did no better in the rock
+ * pile of tools/bench_vs_multisphere.sh before the watched pairs below); certificates are made for pairs that
+ * moved by less than POLY_CACHE_GATE of it since their last search. */
 #ifndef POLY_CACHE_CAP
 #define POLY_CACHE_CAP 1e-3
 #endif
@@ -27,8 +27,18 @@
 #ifndef POLY_CACHE_MARGIN_SCALE
 #define POLY_CACHE_MARGIN_SCALE 1
 #endif
+/* Tests only: 0 skips the watched pairs' decisions (tests/test_crossing_cache.py must then find differences). */
+#ifndef POLY_CACHE_WATCH_CHECKS
+#define POLY_CACHE_WATCH_CHECKS 1
+#endif
 #ifndef POLY_CACHE_GATE
-#define POLY_CACHE_GATE 0.0625
+#define POLY_CACHE_GATE 0.25
+#endif
+/* A certificate reaches POLY_CACHE_REACH caps: the pairs whose margins fall below it (at most POLY_CACHE_WATCH, the
+ * least) are watched, decided again once B's motion reaches their margins, instead of ending the certificate
+ * there. */
+#ifndef POLY_CACHE_REACH
+#define POLY_CACHE_REACH 8.0
 #endif
 /* A motion d by which x, y and z may each change (by 2d: differences of points that each move by d) while a
  * trilinear form of them with value `room` (|value| less its rounding bound) keeps its sign: the change is at most
@@ -122,6 +132,65 @@ POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R 
   return flush < margin ? flush : margin;
 }
 
+/* Watches the pair (edge e of the body `of_b`, triangle t of the other) of margin `margin` < `least` (the least
+ * margin of the pairs not watched): kept in the cache's watch list by ascending margin; when the list is full the
+ * pair of the largest margin is left out, and the certificate's least margin becomes that. Returns the least. */
+POLY_INLINE double POLY_FN(cache_watch)(poly_crossing_cache *cache, int e, int t, int of_b, double margin,
+                                        double least)
+{
+  int slot = cache->num_watch;
+  if (slot == POLY_CACHE_WATCH) {
+    const double largest = cache->watch_margin[slot - 1];
+    if (!(margin < largest)) return margin;
+    least = largest < least ? largest : least;
+    slot--;
+  } else {
+    cache->num_watch++;
+  }
+  for (; slot > 0 && cache->watch_margin[slot - 1] > margin; slot--) {
+    cache->watch_edge[slot] = cache->watch_edge[slot - 1];
+    cache->watch_triangle[slot] = cache->watch_triangle[slot - 1];
+    cache->watch_of_b[slot] = cache->watch_of_b[slot - 1];
+    cache->watch_margin[slot] = cache->watch_margin[slot - 1];
+  }
+  cache->watch_edge[slot] = e;
+  cache->watch_triangle[slot] = t;
+  cache->watch_of_b[slot] = (unsigned char)of_b;
+  cache->watch_margin[slot] = margin;
+  return least;
+}
+
+/* The search's decision on edge e of `mine` against triangle t of `other` (find_crossings' box test, flush reach,
+ * sides and crossing test, on the same numbers): 1 a crossing, 0 none, -1 both ends within the flush test's reach
+ * (the search decides those; the caller searches). */
+POLY_INLINE int POLY_FN(cache_decide)(const POLY_FN(shape_view) *mine, const R *my_vertices, int mine_is_b, int e,
+                                      const POLY_FN(shape_view) *other, const R *other_vertices, int t, R tolerance)
+{
+  const R *p0 = my_vertices + 3 * mine->edges[2 * e], *p1 = my_vertices + 3 * mine->edges[2 * e + 1];
+  const int *tri = other->triangles + 3 * t;
+  R low[3], high[3], box[6], plane[4];
+  POLY_FN(segment_bounds)(p0, p1, low, high);
+  POLY_FN(triangle_bounds)(other_vertices, tri, box, box + 3);
+  for (int k = 0; k < 3; k++) {
+    box[k] -= tolerance;
+    box[3 + k] += tolerance;
+  }
+  if (!POLY_FN(boxes_overlap)(low, high, box)) return 0;
+  POLY_FN(triangle_plane)(other_vertices, tri, plane);
+  R side0 = POLY_FN(plane_side)(p0, other_vertices, tri, plane);
+  R side1 = POLY_FN(plane_side)(p1, other_vertices, tri, plane);
+  if (tolerance > 0) {
+    R reach = tolerance * POLY_FN(norm1)(plane);
+    if (fabs(side0) <= reach && fabs(side1) <= reach) return -1;
+  }
+  int sign0 = POLY_FN(side_sign)(side0, mine_is_b, other_vertices, tri, plane);
+  int sign1 = POLY_FN(side_sign)(side1, mine_is_b, other_vertices, tri, plane);
+  if (sign0 == sign1) return 0;
+  R lambda;
+  return POLY_FN(records_crossing_in_triangle)(p0, p1, mine_is_b, other_vertices, tri, side0, side1, sign0,
+                                               &lambda) != 0;
+}
+
 /* How far, along the slab's axis, a point's place against the other body's extreme may move while B moves by d <
  * cap (translation T of B in A's frame): by d itself, and by the axis (the centre line, T / |T|) turning by up to
  * 2 d / |T| at points up to r_A + r_B + |T| from A's centre; twice that, and 2 cap for the two bodies' motion. */
@@ -135,14 +204,16 @@ POLY_INLINE double POLY_FN(cache_band)(const POLY_FN(shape_view) *a, const POLY_
   return 2.0 * cap + 2.0 * cap * (1.0 + 2.0 * (size + distance) / distance);
 }
 
-/* The certificate of one way (edges of `mine` against triangles of `other`): the least pair margin, at most cap,
- * over the pairs the search could test while each body moves by less than cap (their boxes within 2 cap, both
- * within `band` of the slab's other side); 0 as soon as one pair's is. */
+/* The certificate of one way (edges of `mine` against triangles of `other`) over the pairs the search could test
+ * while each body moves by less than cap (their boxes within 2 cap, both within `band` of the slab's other side):
+ * those of margin below the least are watched (cache_watch), and the least margin of the others, at most `least`
+ * (cap or the other way's), returned; 0 as soon as that is. */
 POLY_INLINE double POLY_FN(cache_certificate_way)(const POLY_FN(shape_view) *mine, const R *my_vertices,
                                                   const R *my_along, const POLY_FN(shape_view) *other,
                                                   const R *other_vertices, const R *other_along, int mine_is_b,
                                                   double limit_mine, double limit_other, double tolerance,
-                                                  double cap, double band, POLY_FN(overlap_workspace) *ws)
+                                                  double cap, double band, double least,
+                                                  poly_crossing_cache *cache, POLY_FN(overlap_workspace) *ws)
 {
   /* Along the slab's axis (a unit vector), B lies at >= limit_a and A at <= limit_b: a point of `mine` short of
    * its limit by more than `band`, or of `other` beyond its own, is neither in a later pose's slab (whose axis
@@ -196,7 +267,6 @@ POLY_INLINE double POLY_FN(cache_certificate_way)(const POLY_FN(shape_view) *min
     kept += in;
   }
   num_near = kept;
-  double least = cap;
   for (int m = 0; m < num_edges; m++) {
     const int e = edges[m];
     const R *p0 = my_vertices + 3 * mine->edges[2 * e], *p1 = my_vertices + 3 * mine->edges[2 * e + 1];
@@ -215,7 +285,7 @@ POLY_INLINE double POLY_FN(cache_certificate_way)(const POLY_FN(shape_view) *min
       double margin = POLY_FN(cache_pair_margin)(p0, p1, other_vertices, other->triangles + 3 * near[n], tolerance,
                                                  gap > 0.0 ? gap : 0.0, least);
       if (margin < least) {
-        least = margin;
+        least = POLY_FN(cache_watch)(cache, e, near[n], mine_is_b, margin, least);
         if (!(least > 0.0)) return 0.0;
       }
     }
@@ -257,11 +327,8 @@ POLY_INLINE int POLY_FN(cache_records)(const POLY_FN(shape_view) *mine, const R 
     int first = *num_records, count = 0;
     for (; next < to && cache->edge[next] == e; next++) {
       const int t = cache->triangle[next], *tri = other->triangles + 3 * t;
-      R e1[3], e2[3], plane[4];
-      POLY_FN(sub)(other_vertices + 3 * tri[1], other_vertices + 3 * tri[0], e1);
-      POLY_FN(sub)(other_vertices + 3 * tri[2], other_vertices + 3 * tri[0], e2);
-      POLY_FN(cross)(e1, e2, plane);
-      plane[3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
+      R plane[4];
+      POLY_FN(triangle_plane)(other_vertices, tri, plane);
       R side0 = POLY_FN(plane_side)(p0, other_vertices, tri, plane);
       R side1 = POLY_FN(plane_side)(p1, other_vertices, tri, plane);
       int sign0 = POLY_FN(side_sign)(side0, mine_is_b, other_vertices, tri, plane);
@@ -284,14 +351,24 @@ POLY_INLINE int POLY_FN(cache_records)(const POLY_FN(shape_view) *mine, const R 
  * the search's order. `va`, `vb`: the pass's local vertices. Returns 1 with *out filled, 0 when the pair must be
  * searched (no certificate, another pair's cache, moved too far, a crossing that does not hold). */
 POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
-                                      const R *vb, const double *rotation, const double *translation,
+                                      const R *vb, const double *rotation, const double *translation, R tolerance,
                                       POLY_FN(overlap_workspace) *ws, POLY_FN(pass) *out)
 {
   poly_crossing_cache *cache = ws->crossing_cache;
   if (!(cache->margin > 0.0) || cache->shape_a != (const void *)a->vertices ||
-      cache->shape_b != (const void *)b->vertices ||
-      !(POLY_FN(cache_motion)(cache, a, b, rotation, translation) < cache->margin))
+      cache->shape_b != (const void *)b->vertices)
     return 0;
+  const double motion = POLY_FN(cache_motion)(cache, a, b, rotation, translation);
+  if (!(motion < cache->margin)) return 0;
+  /* The watched pairs whose margins B's motion has reached: decided again, they must decide as at the search. */
+  for (int w = 0; POLY_CACHE_WATCH_CHECKS && w < cache->num_watch && !(motion < cache->watch_margin[w]); w++) {
+    const int of_b = cache->watch_of_b[w];
+    const int decision = of_b ? POLY_FN(cache_decide)(b, vb, 1, cache->watch_edge[w], a, va, cache->watch_triangle[w],
+                                                      tolerance)
+                              : POLY_FN(cache_decide)(a, va, 0, cache->watch_edge[w], b, vb, cache->watch_triangle[w],
+                                                      tolerance);
+    if (decision != (int)cache->watch_crosses[w]) return 0;
+  }
   if (cache->num_records == 0 && cache->num_edges == 0 && cache->num_inside == 0) {
     /* A near miss (bodies apart, though no plane of the filter parts them): its search found nothing, and the
      * pass's sums stay empty, as they would. */
@@ -394,9 +471,9 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
   const double cap = POLY_CACHE_CAP * ((double)a->bounding_radius + (double)b->bounding_radius);
   const int known = cache->shape_a == (const void *)a->vertices && cache->shape_b == (const void *)b->vertices;
   /* A pair that moved by less than POLY_CACHE_GATE of the cap since its last search may keep a certificate for a
-   * few steps (a sixteenth: in the hopper example's flow an eighth made twice as many, serving no one). A
-   * certificate costs about a search, an evaluation from it a quarter of one: a pair whose certificate served
-   * fewer than two evaluations waits 1, 2, 4 ... 64 searches before the next. */
+   * few steps (a quarter, with certificates reaching 8 caps; before the watched pairs, a sixteenth of a certificate
+   * of at most one cap). A certificate costs about a search, an evaluation from it a quarter of one: a pair whose
+   * certificate served fewer than two evaluations waits 1, 2, 4 ... 64 searches before the next. */
   const double moved = known ? POLY_FN(cache_motion)(cache, a, b, rotation, translation) : cap;
   const int slow = moved < POLY_CACHE_GATE * cap;
   if (known && cache->margin > 0.0) cache->backoff = cache->hits > 1 ? 0 : (cache->backoff ? 2 * cache->backoff : 1);
@@ -435,15 +512,28 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
     return;
   }
   cache->skip = cache->backoff;
-  const double band = POLY_FN(cache_band)(a, b, translation, cap);
+  const double reach = POLY_CACHE_REACH * cap, band = POLY_FN(cache_band)(a, b, translation, reach);
+  cache->num_watch = 0;
   double margin = POLY_FN(cache_certificate_way)(a, va, ws->along_a, b, vb, ws->along_b, 0, (double)f->limit_a,
-                                                 (double)f->limit_b, (double)f->tolerance, cap, band, ws);
-  if (margin > 0.0) {
-    double other = POLY_FN(cache_certificate_way)(b, vb, ws->along_b, a, va, ws->along_a, 1, (double)f->limit_b,
-                                                  (double)f->limit_a, (double)f->tolerance, cap, band, ws);
-    margin = other < margin ? other : margin;
-  }
+                                                 (double)f->limit_b, (double)f->tolerance, reach, band, reach, cache,
+                                                 ws);
+  if (margin > 0.0)
+    margin = POLY_FN(cache_certificate_way)(b, vb, ws->along_b, a, va, ws->along_a, 1, (double)f->limit_b,
+                                            (double)f->limit_a, (double)f->tolerance, reach, band, margin, cache, ws);
   ws->cache_certificates++;
+  /* The watched pairs' decisions at the search (those of margin beyond the certificate never come up). */
+  int watched = 0;
+  for (int w = 0; w < cache->num_watch && margin > 0.0 && cache->watch_margin[w] < margin; w++, watched++) {
+    const int of_b = cache->watch_of_b[w];
+    const int decision = of_b ? POLY_FN(cache_decide)(b, vb, 1, cache->watch_edge[w], a, va, cache->watch_triangle[w],
+                                                      f->tolerance)
+                              : POLY_FN(cache_decide)(a, va, 0, cache->watch_edge[w], b, vb, cache->watch_triangle[w],
+                                                      f->tolerance);
+    if (decision < 0) margin = 0.0;
+    cache->watch_crosses[w] = (unsigned char)(decision > 0);
+    cache->watch_margin[w] *= POLY_CACHE_MARGIN_SCALE;
+  }
+  cache->num_watch = watched;
   if (!(margin > 0.0)) return;
   POLY_FN(cache_keep_records)(cache, 0, ws, 0, records_b);
   POLY_FN(cache_keep_records)(cache, records_b, ws, records_b, num_records);

@@ -469,10 +469,19 @@ POLY_INLINE int POLY_FN(keep_in_slab)(const POLY_FN(shape_view) *body, const R *
  * only cull, so a grown box is safe; grown by the flush tolerance, the pair
  * loop's one box test also finds flush faces a hair apart), and the body's box
  * of kept triangles grown to hold it. */
+/* The plane of `tri` as the predicates take it: (v1 - v0) x (v2 - v0) and |v1 - v0|_1 |v2 - v0|_1. */
+POLY_INLINE void POLY_FN(triangle_plane)(const R *vertices, const int *tri, R *plane)
+{
+  R e1[3], e2[3];
+  POLY_FN(sub)(vertices + 3 * tri[1], vertices + 3 * tri[0], e1);
+  POLY_FN(sub)(vertices + 3 * tri[2], vertices + 3 * tri[0], e2);
+  POLY_FN(cross)(e1, e2, plane);
+  plane[3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
+}
+
 POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tri, R grow, R *plane, R *bounds,
                                                 R *box_low, R *box_high)
 {
-  R e1[3], e2[3];
   POLY_FN(triangle_bounds)(vertices, tri, bounds, bounds + 3);
   for (int k = 0; k < 3; k++) {
     bounds[k] -= grow;
@@ -480,10 +489,7 @@ POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tr
     if (bounds[k] < box_low[k]) box_low[k] = bounds[k];
     if (bounds[3 + k] > box_high[k]) box_high[k] = bounds[3 + k];
   }
-  POLY_FN(sub)(vertices + 3 * tri[1], vertices + 3 * tri[0], e1);
-  POLY_FN(sub)(vertices + 3 * tri[2], vertices + 3 * tri[0], e2);
-  POLY_FN(cross)(e1, e2, plane);
-  plane[3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
+  POLY_FN(triangle_plane)(vertices, tri, plane);
 }
 
 /* The half-space filter's slab (eqs. 5.3-5.4): the filtering direction
@@ -683,7 +689,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
 #if POLY_OVERLAP_RECORDS
   /* A contact whose crossings are certified since its last search: their sums without the filter and search. */
   if (ws->cache_pass && ws->crossing_cache && ws->use_records &&
-      POLY_FN(cache_replay)(a, va, b, vb, rotation, translation, ws, out)) {
+      POLY_FN(cache_replay)(a, va, b, vb, rotation, translation, tolerance, ws, out)) {
     ws->capacity_points = capacity_points;
     return;
   }

@@ -91,6 +91,15 @@ def test_an_inflated_certificate_is_caught(tmp_path):
     assert counts["differ"] > 0
 
 
+def test_the_watched_pairs_are_decided_again(tmp_path):
+    """A certificate reaches 8 caps and leaves the pairs of smaller margins to be decided again as B moves: a
+    build that skips those decisions must give other results."""
+    binary = build_driver(tmp_path, ["-DPOLY_CACHE_WATCH_CHECKS=0"])
+    differ = sum(run(binary, shape, "double", start=start)[0]["differ"]
+                 for shape in ("rock_40.obj", "rock_70.obj") for start in ("contact", "near"))
+    assert differ > 0
+
+
 def pile_deck(cache):
     text = open(os.path.join(ROOT, "examples", "bench_multisphere", "in.pile_poly")).read()
     assert "pair_style      polyhedral/volumetric\n" in text
