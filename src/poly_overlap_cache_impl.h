@@ -5,12 +5,15 @@
  * the settled pile of rock_40, 90 % of the contacts through 1000 steps), while the search that finds them is half
  * of the general path's time. After a search, a certificate bounds how far B may move relative to A (in A's body
  * frame) before any decision of that search can change: each (edge, triangle) decision rests on orientation
- * determinants det(x, y, z) of differences of the bodies' points, and moving every point by at most d moves
- * such a determinant by at most (|x| + 2d)(|y| + 2d)(|z| + 2d) - |x||y||z| (Hadamard), so a determinant whose
- * value, less its rounding bound, exceeds that keeps its sign, and its exact predicate its decision. A crossing
+ * determinants det(x, y, z) of differences of the bodies' points; a motion m of B moves such a difference by at
+ * most m (a point of each body), |v| m / r_B (two of B: its turn) or only by rounding (two of A), and so the
+ * determinant by at most the first-order terms |dx||y x z| + ... and the products of two or three changes
+ * (cache_det_margin), so a determinant whose value, less its rounding bound, exceeds that keeps its sign, and its
+ * exact predicate its decision. A crossing
  * needs all five of its determinants (both ends' sides of the triangle's plane, the three edge orientations), a
  * miss one reason (both ends on one side, two orientations that disagree, boxes apart). While B's motion stays
- * under the least of these margins the crossings stay those of the search, and so do the vertices inside the
+ * under the least of these margins (but for the watched pairs, decided again: cache_watch) the crossings stay
+ * those of the search, and so do the vertices inside the
  * other body (a vertex changes sides only where an edge of it changes crossings) and the edges with inside parts.
  * The next evaluations then skip the filter, the search and the inside states: each crossing's parameter comes
  * from the same predicates, and the same functions sum the same parts in the same order (cache_replay), so every
@@ -40,29 +43,52 @@
 #ifndef POLY_CACHE_REACH
 #define POLY_CACHE_REACH 8.0
 #endif
-/* A motion d by which x, y and z may each change (by 2d: differences of points that each move by d) while a
- * trilinear form of them with value `room` (|value| less its rounding bound) keeps its sign: the change is at most
- * (x + 2d)(y + 2d)(z + 2d) - xyz <= d (2(xy + yz + zx) + 4(x + y + z) d + 8 d^2), so for d <= least,
- * room / (2(xy + yz + zx) + 4(x + y + z) least + 8 least^2) serves. Returns `least` itself when that is at most
- * the bound (no division: the caller keeps the least over its pairs), 0 when room <= 0. */
-POLY_INLINE double POLY_FN(trilinear_reach)(double room, double x, double y, double z, double least)
-{
-  if (!(room > 0.0)) return 0.0;
-  const double slope = 2.0 * (x * y + y * z + x * z) + least * (4.0 * (x + y + z) + 8.0 * least);
-  return room >= least * slope ? least : room / slope;
-}
+/* How a vector of a decision's determinant moves with B's motion m (cache_motion: |R - R0|_F r_B + |T - T0| and
+ * the rounding) in A's frame: a difference of two points of A not at all, one of two points of B by its turn, at
+ * most |v| |R - R0|_F <= |v| m / r_B, one of a point of each body by at most m; each also by the coordinates'
+ * rounding in both poses (the caller's `fixed`). */
+#ifndef POLY_CACHE_OF_A
+#define POLY_CACHE_OF_A 0
+#define POLY_CACHE_OF_B 1
+#define POLY_CACHE_ACROSS 2
+#endif
 
-/* That motion for det(x, y, z) of value `value` (its rounding bound, generous: the predicates' fast filters use 32
- * units of the type's roundoff on the same products of 1-norms, and `slack` taken off it too); *ok: the value's
- * sign is certain. The 1-norms bound the lengths from above: a smaller margin, no root. */
-POLY_INLINE double POLY_FN(cache_det_margin)(const R *x, const R *y, const R *z, double value, double slack,
-                                             double least, int *ok)
+/* The motion below which det(x, y, z), of value `value`, keeps its sign: x, y, z change by at most
+ * delta_i = rate_i m + fixed (rate by `kind`, above), and det changes by at most
+ * F = d0 |y x z| + d1 |z x x| + d2 |x x y| + d0 d1 |z| + d0 |y| d2 + |x| d1 d2 + d0 d1 d2, whose slope in m up to
+ * `least` is sum_i rate_i dF/dd_i at delta(least). The room is |value| less its rounding bound (generous: the
+ * predicates' fast filters use 32 units of the type's roundoff on the same products of 1-norms), `slack` and F at
+ * m = 0. Returns `least` itself when that is within it (no division: the caller keeps the least over its pairs), 0
+ * when the room is not positive (*ok 0: the value's sign is not certain). */
+POLY_INLINE double POLY_FN(cache_det_margin)(const R *x, const R *y, const R *z, const int *kind, double inv_rb,
+                                             double fixed, double value, double slack, double least, int *ok)
 {
   const double eps = (double)POLY_FN(epsilon)();
-  const double nx = (double)POLY_FN(norm1)(x), ny = (double)POLY_FN(norm1)(y), nz = (double)POLY_FN(norm1)(z);
-  const double room = fabs(value) - slack - 128.0 * eps * nx * ny * nz;
+  const R *v[3] = {x, y, z};
+  double w[3][3], n[3], rate[3], c[3];
+  for (int i = 0; i < 3; i++) {
+    for (int k = 0; k < 3; k++) w[i][k] = (double)v[i][k];
+    /* Lengths and cross products in double, padded for their rounding. */
+    n[i] = (1.0 + 1e-9) * sqrt(w[i][0] * w[i][0] + w[i][1] * w[i][1] + w[i][2] * w[i][2]);
+    rate[i] = kind[i] == POLY_CACHE_OF_A ? 0.0 : (kind[i] == POLY_CACHE_OF_B ? 1.001 * n[i] * inv_rb : 1.001);
+  }
+  for (int i = 0; i < 3; i++) {
+    const double *p = w[i == 2 ? 0 : i + 1], *q = w[i == 0 ? 2 : i - 1];
+    const double cx = p[1] * q[2] - p[2] * q[1], cy = p[2] * q[0] - p[0] * q[2], cz = p[0] * q[1] - p[1] * q[0];
+    c[i] = (1.0 + 1e-9) * sqrt(cx * cx + cy * cy + cz * cz);
+  }
+  const double b = fixed;
+  const double at_rest = b * (c[0] + c[1] + c[2]) + b * b * (n[0] + n[1] + n[2]) + b * b * b;
+  const double room = fabs(value) - slack - 128.0 * eps * (double)POLY_FN(norm1)(x) * (double)POLY_FN(norm1)(y) *
+                                                 (double)POLY_FN(norm1)(z) - 1.001 * at_rest;
   *ok = room > 0.0;
-  return POLY_FN(trilinear_reach)(room, nx, ny, nz, least);
+  if (!(room > 0.0)) return 0.0;
+  double d[3];
+  for (int i = 0; i < 3; i++) d[i] = rate[i] * least + b;
+  const double slope = rate[0] * (c[0] + d[1] * n[2] + n[1] * d[2] + d[1] * d[2]) +
+                       rate[1] * (c[1] + d[0] * n[2] + n[0] * d[2] + d[0] * d[2]) +
+                       rate[2] * (c[2] + d[0] * n[1] + n[0] * d[1] + d[0] * d[1]);
+  return room >= least * slope ? least : room / slope;
 }
 
 /* The motion that leaves the decision on edge p0 p1 against triangle `tri` (vertices `q`) unchanged, or any
@@ -70,7 +96,7 @@ POLY_INLINE double POLY_FN(cache_det_margin)(const R *x, const R *y, const R *z,
  * gap gives (0 when they meet); `tolerance` > 0: the flush test's, whose reach (tolerance |plane|_1) one end of
  * the edge must stay beyond. */
 POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R *q, const int *tri, double tolerance,
-                                              double gap, double least)
+                                              double gap, int mine_is_b, double inv_rb, double fixed, double least)
 {
   const R *q0 = q + 3 * tri[0], *q1 = q + 3 * tri[1], *q2 = q + 3 * tri[2];
   R e1[3], e2[3], c0[3], c1[3], d[3];
@@ -79,9 +105,13 @@ POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R 
   POLY_FN(sub)(p0, q0, c0);
   POLY_FN(sub)(p1, q0, c1);
   const double s0 = (double)POLY_FN(det)(e1, e2, c0), s1 = (double)POLY_FN(det)(e1, e2, c1);
+  /* The triangle's edges are the other body's, the edge's its own; the rest joins a point of each. */
+  const int of_triangle = mine_is_b ? POLY_CACHE_OF_A : POLY_CACHE_OF_B;
+  const int plane_kinds[3] = {of_triangle, of_triangle, POLY_CACHE_ACROSS};
+  const int edge_kinds[3] = {mine_is_b ? POLY_CACHE_OF_B : POLY_CACHE_OF_A, POLY_CACHE_ACROSS, POLY_CACHE_ACROSS};
   int ok0, ok1;
-  const double m0 = POLY_FN(cache_det_margin)(e1, e2, c0, s0, 0.0, least, &ok0);
-  const double m1 = POLY_FN(cache_det_margin)(e1, e2, c1, s1, 0.0, least, &ok1);
+  const double m0 = POLY_FN(cache_det_margin)(e1, e2, c0, plane_kinds, inv_rb, fixed, s0, 0.0, least, &ok0);
+  const double m1 = POLY_FN(cache_det_margin)(e1, e2, c1, plane_kinds, inv_rb, fixed, s1, 0.0, least, &ok1);
   double flush = 1e300;
   if (tolerance > 0.0) {
     R plane[3];
@@ -90,8 +120,8 @@ POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R 
     const double reach = 2.0 * tolerance * (double)POLY_FN(norm1)(plane);
     /* Both ends within the reach would send the pair to the flush test: one must stay beyond it. */
     int f0, f1;
-    double r0 = POLY_FN(cache_det_margin)(e1, e2, c0, s0, reach, least, &f0);
-    double r1 = POLY_FN(cache_det_margin)(e1, e2, c1, s1, reach, least, &f1);
+    double r0 = POLY_FN(cache_det_margin)(e1, e2, c0, plane_kinds, inv_rb, fixed, s0, reach, least, &f0);
+    double r1 = POLY_FN(cache_det_margin)(e1, e2, c1, plane_kinds, inv_rb, fixed, s1, reach, least, &f1);
     flush = r0 > r1 ? r0 : r1;
     if (!f0 && !f1) return 0.0;
   }
@@ -113,7 +143,7 @@ POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R 
     POLY_FN(sub)(corners[k], p0, a);
     POLY_FN(sub)(corners[k == 2 ? 0 : k + 1], p0, b);
     const double o = (double)POLY_FN(det)(d, a, b);
-    om[k] = POLY_FN(cache_det_margin)(d, a, b, o, 0.0, least, &known[k]);
+    om[k] = POLY_FN(cache_det_margin)(d, a, b, edge_kinds, inv_rb, fixed, o, 0.0, least, &known[k]);
     sign[k] = o > 0;
   }
   const int agree = known[0] && known[1] && known[2] && sign[0] == sign[1] && sign[1] == sign[2];
@@ -212,8 +242,9 @@ POLY_INLINE double POLY_FN(cache_certificate_way)(const POLY_FN(shape_view) *min
                                                   const R *my_along, const POLY_FN(shape_view) *other,
                                                   const R *other_vertices, const R *other_along, int mine_is_b,
                                                   double limit_mine, double limit_other, double tolerance,
-                                                  double cap, double band, double least,
-                                                  poly_crossing_cache *cache, POLY_FN(overlap_workspace) *ws)
+                                                  double cap, double band, double inv_rb, double fixed,
+                                                  double least, poly_crossing_cache *cache,
+                                                  POLY_FN(overlap_workspace) *ws)
 {
   /* Along the slab's axis (a unit vector), B lies at >= limit_a and A at <= limit_b: a point of `mine` short of
    * its limit by more than `band`, or of `other` beyond its own, is neither in a later pose's slab (whose axis
@@ -283,7 +314,7 @@ POLY_INLINE double POLY_FN(cache_certificate_way)(const POLY_FN(shape_view) *min
       gap = 0.5 * (gap - 4.0 * tolerance);
       if (gap >= least) continue;
       double margin = POLY_FN(cache_pair_margin)(p0, p1, other_vertices, other->triangles + 3 * near[n], tolerance,
-                                                 gap > 0.0 ? gap : 0.0, least);
+                                                 gap > 0.0 ? gap : 0.0, mine_is_b, inv_rb, fixed, least);
       if (margin < least) {
         least = POLY_FN(cache_watch)(cache, e, near[n], mine_is_b, margin, least);
         if (!(least > 0.0)) return 0.0;
@@ -513,13 +544,21 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
   }
   cache->skip = cache->backoff;
   const double reach = POLY_CACHE_REACH * cap, band = POLY_FN(cache_band)(a, b, translation, reach);
+  /* The local coordinates' rounding, in this pose and in any within the reach: 32 units of roundoff of the
+   * largest coordinate (the origin lies between the bodies on the centre line). */
+  const double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
+                               translation[2] * translation[2]),
+               size = (double)a->bounding_radius + (double)b->bounding_radius,
+               fixed = 32.0 * (double)POLY_FN(epsilon)() * (2.0 * size + distance + reach),
+               inv_rb = 1.0 / (double)b->bounding_radius;
   cache->num_watch = 0;
   double margin = POLY_FN(cache_certificate_way)(a, va, ws->along_a, b, vb, ws->along_b, 0, (double)f->limit_a,
-                                                 (double)f->limit_b, (double)f->tolerance, reach, band, reach, cache,
-                                                 ws);
+                                                 (double)f->limit_b, (double)f->tolerance, reach, band, inv_rb, fixed,
+                                                 reach, cache, ws);
   if (margin > 0.0)
     margin = POLY_FN(cache_certificate_way)(b, vb, ws->along_b, a, va, ws->along_a, 1, (double)f->limit_b,
-                                            (double)f->limit_a, (double)f->tolerance, reach, band, margin, cache, ws);
+                                            (double)f->limit_a, (double)f->tolerance, reach, band, inv_rb, fixed,
+                                            margin, cache, ws);
   ws->cache_certificates++;
   /* The watched pairs' decisions at the search (those of margin beyond the certificate never come up). */
   int watched = 0;
