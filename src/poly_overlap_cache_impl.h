@@ -341,6 +341,16 @@ POLY_INLINE double POLY_FN(cache_motion)(const poly_crossing_cache *cache, const
          16.0 * (double)POLY_FN(epsilon)() * (2.0 * size + sqrt(far));
 }
 
+/* Does the pair's cache certify, at this pose, a contact (crossings or vertices inside), the watched pairs aside? */
+POLY_INLINE int POLY_FN(cache_certifies_contact)(const poly_crossing_cache *cache, const POLY_FN(shape_view) *a,
+                                                 const POLY_FN(shape_view) *b, const double *rotation,
+                                                 const double *translation)
+{
+  return cache->margin > 0.0 && (cache->num_records > 0 || cache->num_inside > 0) &&
+         cache->shape_a == (const void *)a->vertices && cache->shape_b == (const void *)b->vertices &&
+         POLY_FN(cache_motion)(cache, a, b, rotation, translation) < cache->margin;
+}
+
 /* The crossing records of one body's cached crossings [from, to) at the current pose, with a run per cached edge
  * [edge_from, edge_to) (ascending, as the search's runs): each crossing's parameter and side from the search's
  * predicates on the same numbers, inserted along its edge as the search inserts them. 0 when a crossing does not

@@ -639,9 +639,16 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
 #endif
   for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
 #if POLY_OVERLAP_RECORDS
-  if (!separated && use_filter && !(a->face_of && b->face_of) && a->support && b->support)
-    separated = POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b,
-                                           &out->separating);
+  /* A contact whose crossings are certified (cache_replay below) has no parting plane: its boundaries cross, or a
+   * vertex of one lies inside the other. Its supporting triangles are tried only if the replay does not take it. */
+  int support_later = 0;
+  if (!separated && use_filter && !(a->face_of && b->face_of) && a->support && b->support) {
+    support_later = ws->cache_pass && ws->crossing_cache && ws->use_records &&
+                    POLY_FN(cache_certifies_contact)(ws->crossing_cache, a, b, rotation, translation);
+    if (!support_later)
+      separated = POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b,
+                                             &out->separating);
+  }
 #endif
   if (separated && use_filter) {
     out->filtered_out = 1;
@@ -690,6 +697,12 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   /* A contact whose crossings are certified since its last search: their sums without the filter and search. */
   if (ws->cache_pass && ws->crossing_cache && ws->use_records &&
       POLY_FN(cache_replay)(a, va, b, vb, rotation, translation, tolerance, ws, out)) {
+    ws->capacity_points = capacity_points;
+    return;
+  }
+  if (support_later &&
+      POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b, &out->separating)) {
+    out->filtered_out = 1;
     ws->capacity_points = capacity_points;
     return;
   }

@@ -425,10 +425,10 @@ def bench_chute(a, workdir):
 
 
 # Appended to a converted deck after its schedule: the pair loop's evaluation statistics (compute
-# pair/polyhedral/local's vector 4-8) printed by one `run 0`, which the timed runs before it do not see.
+# pair/polyhedral/local's vector 4-10) printed by one `run 0`, which the timed runs before it do not see.
 EVALUATIONS = """
 compute ev all pair/polyhedral/local
-thermo_style custom step atoms c_ev[4] c_ev[5] c_ev[6] c_ev[7] c_ev[8]
+thermo_style custom step atoms c_ev[4] c_ev[5] c_ev[6] c_ev[7] c_ev[8] c_ev[9] c_ev[10]
 thermo_modify format float %.10g
 run 0
 """
@@ -440,7 +440,8 @@ def evaluation_breakdown(log_text):
     for k, line in enumerate(lines):
         if "ev[4]" in line and line.split()[:1] == ["Step"] and k + 1 < len(lines):
             try:
-                candidates, hinted, contacts, parted, misses = (float(w) for w in lines[k + 1].split()[2:7])
+                candidates, hinted, contacts, parted, misses, cached, cached_misses = (
+                    float(w) for w in lines[k + 1].split()[2:9])
             except ValueError:
                 return None
             if candidates <= 0:
@@ -449,7 +450,10 @@ def evaluation_breakdown(log_text):
             return (f"the rocks' neighbour pairs in reach of each other, summed over the steps: {candidates:.4g}; "
                     f"skipped by the plane that parted them before {share(hinted)}, evaluated into a contact "
                     f"{share(contacts)}, found apart by the slab or a parting plane {share(parted)}, found apart "
-                    f"by the whole path (near misses) {share(misses)} (compute pair/polyhedral/local's vector)")
+                    f"by the whole path (near misses) {share(misses)}; from the crossing cache "
+                    f"{100 * cached / max(contacts, 1):.1f} % of the contacts and "
+                    f"{100 * cached_misses / max(misses, 1):.1f} % of the near misses "
+                    f"(compute pair/polyhedral/local's vector)")
     return None
 
 
