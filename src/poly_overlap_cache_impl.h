@@ -387,6 +387,28 @@ POLY_INLINE int POLY_FN(cache_records)(const POLY_FN(shape_view) *mine, const R 
   return next == to ? 1 : 0;
 }
 
+/* B's facet t for the sums: no apex yet, its normal in A's frame (as overlap_pass turns the kept ones). */
+POLY_INLINE void POLY_FN(cache_facet_of_b)(const POLY_FN(shape_view) *b, const double *rotation, int t,
+                                           POLY_FN(overlap_workspace) *ws)
+{
+  ws->apex_b[3 * t] = POLY_NO_APEX;
+  const R *normal = b->face_normals + 3 * t;
+  for (int k = 0; k < 3; k++)
+    ws->normals_b[3 * t + k] =
+        (R)(rotation[3 * k] * normal[0] + rotation[3 * k + 1] * normal[1] + rotation[3 * k + 2] * normal[2]);
+}
+
+/* Adds triangle t to the ascending list of `count` triangles once; returns the new count. */
+POLY_INLINE int POLY_FN(cache_add_end)(int *list, int count, int t)
+{
+  int slot = count;
+  while (slot > 0 && list[slot - 1] > t) slot--;
+  if (slot > 0 && list[slot - 1] == t) return count;
+  for (int m = count; m > slot; m--) list[m] = list[m - 1];
+  list[slot] = t;
+  return count + 1;
+}
+
 /* The pass of a pair whose cache's certificate holds (B's motion since its search under the margin): the records
  * path's sums (runs' inside parts, chords) over the cached crossings, inside vertices and edges, with the nodes in
  * the search's order. `va`, `vb`: the pass's local vertices. Returns 1 with *out filled, 0 when the pair must be
@@ -438,30 +460,26 @@ POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va,
     (of_b ? ws->inside_b : ws->inside_a)[v] = 1;
     POLY_FN(add_point)(ws, &num_points, (of_b ? vb : va) + 3 * v);
   }
-  /* Facets without apexes, B's normals in A's frame, and the triangles of A that end chords (ascending). */
-  for (int t = 0; t < a->num_triangles; t++) {
-    ws->apex_a[3 * t] = POLY_NO_APEX;
-    ws->kept_a[t] = 0;
-  }
-  for (int t = 0; t < b->num_triangles; t++) {
-    ws->apex_b[3 * t] = POLY_NO_APEX;
-    const R *normal = b->face_normals + 3 * t;
-    for (int k = 0; k < 3; k++)
-      ws->normals_b[3 * t + k] =
-          (R)(rotation[3 * k] * normal[0] + rotation[3 * k + 1] * normal[1] + rotation[3 * k + 2] * normal[2]);
-  }
-  for (int r = 0; r < num_records; r++) {
-    if (r < records_b) {
-      const int e = ws->record_edge[r];
-      ws->kept_a[a->edge_triangles[2 * e]] = ws->kept_a[a->edge_triangles[2 * e + 1]] = 1;
-    } else {
-      ws->kept_a[ws->record_triangle[r]] = 1;
+  /* Facets without apexes and B's normals in A's frame, for the facets the sums touch (the cached edges'
+   * triangles and the crossed triangles), and the triangles of A that end chords, ascending. */
+  for (int n = 0; n < cache->num_edges; n++) {
+    const int of_b = n >= cache->edges_b, e = cache->inside_edge[n];
+    for (int j = 0; j < 2; j++) {
+      if (of_b) POLY_FN(cache_facet_of_b)(b, rotation, b->edge_triangles[2 * e + j], ws);
+      else ws->apex_a[3 * a->edge_triangles[2 * e + j]] = POLY_NO_APEX;
     }
   }
   int num_ends = 0;
-  for (int t = 0; t < a->num_triangles; t++) {
-    ws->kept_list_a[num_ends] = t;
-    num_ends += ws->kept_a[t];
+  for (int r = 0; r < num_records; r++) {
+    const int e = ws->record_edge[r], t = ws->record_triangle[r];
+    if (r < records_b) {
+      POLY_FN(cache_facet_of_b)(b, rotation, t, ws);
+      num_ends = POLY_FN(cache_add_end)(ws->kept_list_a, num_ends, a->edge_triangles[2 * e]);
+      num_ends = POLY_FN(cache_add_end)(ws->kept_list_a, num_ends, a->edge_triangles[2 * e + 1]);
+    } else {
+      ws->apex_a[3 * t] = POLY_NO_APEX;
+      num_ends = POLY_FN(cache_add_end)(ws->kept_list_a, num_ends, t);
+    }
   }
   POLY_FN(accumulator) acc = out->acc;
   POLY_FN(run_inside_parts)(a, va, ws->inside_a, ws->runs, num_runs_a, a->face_normals, ws->apex_a, 0, NULL, ws, &acc,
