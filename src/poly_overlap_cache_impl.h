@@ -30,9 +30,13 @@
 #ifndef POLY_CACHE_MARGIN_SCALE
 #define POLY_CACHE_MARGIN_SCALE 1
 #endif
-/* Tests only: 0 skips the watched pairs' decisions (tests/test_crossing_cache.py must then find differences). */
+/* Tests only: 0 skips the watched pairs' decisions, or the outside vertices they need (cache_outside_vertices);
+ * tests/test_crossing_cache.py must then find differences. */
 #ifndef POLY_CACHE_WATCH_CHECKS
 #define POLY_CACHE_WATCH_CHECKS 1
+#endif
+#ifndef POLY_CACHE_OUTSIDE_CHECKS
+#define POLY_CACHE_OUTSIDE_CHECKS 1
 #endif
 #ifndef POLY_CACHE_GATE
 #define POLY_CACHE_GATE 0.25
@@ -68,14 +72,15 @@ POLY_INLINE double POLY_FN(cache_det_margin)(const R *x, const R *y, const R *z,
   double w[3][3], n[3], rate[3], c[3];
   for (int i = 0; i < 3; i++) {
     for (int k = 0; k < 3; k++) w[i][k] = (double)v[i][k];
-    /* Lengths and cross products in double, padded for their rounding. */
-    n[i] = (1.0 + 1e-9) * sqrt(w[i][0] * w[i][0] + w[i][1] * w[i][1] + w[i][2] * w[i][2]);
+    /* Lengths and cross products in double, padded for their rounding and for that of the differences themselves
+     * (made in the type R: a sliver's cross product may be far smaller than the product of its lengths). */
+    n[i] = (1.0 + 1e-9 + 4.0 * eps) * sqrt(w[i][0] * w[i][0] + w[i][1] * w[i][1] + w[i][2] * w[i][2]);
     rate[i] = kind[i] == POLY_CACHE_OF_A ? 0.0 : (kind[i] == POLY_CACHE_OF_B ? 1.001 * n[i] * inv_rb : 1.001);
   }
   for (int i = 0; i < 3; i++) {
     const double *p = w[i == 2 ? 0 : i + 1], *q = w[i == 0 ? 2 : i - 1];
     const double cx = p[1] * q[2] - p[2] * q[1], cy = p[2] * q[0] - p[0] * q[2], cz = p[0] * q[1] - p[1] * q[0];
-    c[i] = (1.0 + 1e-9) * sqrt(cx * cx + cy * cy + cz * cz);
+    c[i] = (1.0 + 1e-9) * sqrt(cx * cx + cy * cy + cz * cz) + 4.0 * eps * n[i == 2 ? 0 : i + 1] * n[i == 0 ? 2 : i - 1];
   }
   const double b = fixed;
   const double at_rest = b * (c[0] + c[1] + c[2]) + b * b * (n[0] + n[1] + n[2]) + b * b * b;
@@ -219,6 +224,40 @@ POLY_INLINE int POLY_FN(cache_decide)(const POLY_FN(shape_view) *mine, const R *
   R lambda;
   return POLY_FN(records_crossing_in_triangle)(p0, p1, mine_is_b, other_vertices, tri, side0, side1, sign0,
                                                &lambda) != 0;
+}
+
+/* Watched pairs are decided at the pose evaluated, not along the way to it: every edge then crosses what it
+ * crossed at the search, but a body small enough to pass through a face between two evaluations (thinner than
+ * the reach) could have gone inside the other with the same crossings. Each body's vertices are inside or not by
+ * the parity of the crossings along the mesh's edges from any one vertex (the mesh is connected), so one vertex of
+ * each body that stays outside the other throughout the reach fixes them all: a vertex of A farther than r_B +
+ * reach from B's centre, one of B farther than r_A + reach from A's (B's points move by at most the motion). */
+POLY_INLINE int POLY_FN(cache_outside_vertices)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                                const double *rotation, const double *translation, double reach)
+{
+  const double ra = (double)a->bounding_radius, rb = (double)b->bounding_radius;
+  const double far = 1e-9 * (ra + rb + fabs(translation[0]) + fabs(translation[1]) + fabs(translation[2]));
+  const double beyond_b = rb + reach + far, beyond_a = ra + reach + far;
+  int found = 0;
+  for (int i = 0; i < a->num_vertices && !found; i++) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+      const double d = (double)a->vertices[3 * i + k] - translation[k];
+      d2 += d * d;
+    }
+    found = d2 > beyond_b * beyond_b;
+  }
+  if (!found) return 0;
+  for (int j = 0; j < b->num_vertices; j++) {
+    const R *v = b->vertices + 3 * j;
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+      const double x = rotation[3 * k] * v[0] + rotation[3 * k + 1] * v[1] + rotation[3 * k + 2] * v[2] + translation[k];
+      d2 += x * x;
+    }
+    if (d2 > beyond_a * beyond_a) return 1;
+  }
+  return 0;
 }
 
 /* How far, along the slab's axis, a point's place against the other body's extreme may move while B moves by d <
@@ -588,6 +627,13 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
                                             (double)f->limit_a, (double)f->tolerance, reach, band, inv_rb, fixed,
                                             margin, cache, ws);
   ws->cache_certificates++;
+  /* Without an outside vertex of each body the watched pairs cannot be left to their decisions: the certificate
+   * ends at the least of their margins (every pair then keeps its decision all the way). */
+  if (cache->num_watch > 0 && cache->watch_margin[0] < margin &&
+      !(POLY_CACHE_OUTSIDE_CHECKS ? POLY_FN(cache_outside_vertices)(a, b, rotation, translation, reach) : 1)) {
+    margin = cache->watch_margin[0];
+    cache->num_watch = 0;
+  }
   /* The watched pairs' decisions at the search (those of margin beyond the certificate never come up). */
   int watched = 0;
   for (int w = 0; w < cache->num_watch && margin > 0.0 && cache->watch_margin[w] < margin; w++, watched++) {

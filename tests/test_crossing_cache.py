@@ -7,6 +7,11 @@ order, so every result bit must be the search's.
   field the same bits, in double, single and mixed precision, with many steps taken from the cache. Built with
   its certificates inflated a thousandfold (POLY_CACHE_MARGIN_SCALE), the same driver must find differences: the
   comparison can fail.
+- tests/unit/crossing_cache_edge.c moves pairs of other shapes and sizes by 0.5 to 0.999 of their certificate's
+  margin: the search's bits, and differences when the certificates are inflated only twice.
+- tests/unit/crossing_cache_thin.c certifies a tiny tetrahedron by a face of a rock and moves it through the face
+  in one evaluation (the same crossings, none, but inside or out): the search's volume, and a wrong one in a build
+  without the outside vertices that watched pairs need (POLY_CACHE_OUTSIDE_CHECKS=0).
 - A pile of 80 rock_40 (examples/bench_multisphere/in.pile_poly, fewer particles and steps) with `crossing_cache on`
   and `off`, on one rank and on two: the same thermo output to the digits printed, and compute
   pair/polyhedral/local's ninth and tenth elements counting contacts and near misses evaluated from the cache (none
@@ -24,11 +29,11 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHAPES = os.path.join(ROOT, "examples", "shapes")
 
 
-def build_driver(directory, defines=()):
+def build_driver(directory, defines=(), name="crossing_cache"):
     if not shutil.which("gcc"):
         pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
-    binary = str(directory / "crossing_cache")
-    sources = [os.path.join(ROOT, "tests", "unit", "crossing_cache.c")] + [
+    binary = str(directory / (name + "".join(d.split("=")[-1] for d in defines)))
+    sources = [os.path.join(ROOT, "tests", "unit", name + ".c")] + [
         os.path.join(ROOT, "src", name) for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c")]
     subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", *defines,
                     "-I" + os.path.join(ROOT, "src")] + sources + ["-lm", "-o", binary], check=True)
@@ -98,6 +103,60 @@ def test_the_watched_pairs_are_decided_again(tmp_path):
     differ = sum(run(binary, shape, "double", start=start)[0]["differ"]
                  for shape in ("rock_40.obj", "rock_70.obj") for start in ("contact", "near"))
     assert differ > 0
+
+
+def run_words(command):
+    out = subprocess.run(command, capture_output=True, text=True, check=True)
+    words = out.stdout.split()
+    return dict(zip(words[0::2], (int(w) for w in words[1::2]))), out.stderr
+
+
+# Pairs of shapes and sizes (A file, scale, B file, scale, precision, start) for the edge of the certificates.
+EDGE_CASES = [("rock_40.obj", 1, "rock_70.obj", 0.5, "double", "contact"),
+              ("rock_40.obj", 1, "rock_40.obj", 1, "double", "near"),
+              ("rock_70.obj", 1, "rock_20.obj", 0.2, "single", "contact"),
+              ("rock_40.obj", 1, "rock_70.obj", 2, "double", "near"),
+              ("rock_40.obj", 1, "rock_40.obj", 1, "single", "contact")]
+
+
+def run_edge(binary, case):
+    a, scale_a, b, scale_b, precision, start = case
+    return run_words([binary, os.path.join(SHAPES, a), str(scale_a), os.path.join(SHAPES, b), str(scale_b), "300",
+                      "40", precision] + (["near"] if start == "near" else []))
+
+
+def test_poses_at_the_edge_of_the_certificates_give_the_search_bits(tmp_path):
+    """B moved by 0.5 to 0.999 of the certificate's margin (a turn and a shift in random directions), for shapes of
+    other sizes too: every result the search's. With the certificates inflated twice the same poses differ, so the
+    margins are not loose by that much and the comparison can tell."""
+    binary = build_driver(tmp_path, name="crossing_cache_edge")
+    inflated = build_driver(tmp_path, ["-DPOLY_CACHE_MARGIN_SCALE=2"], name="crossing_cache_edge")
+    differ_inflated = 0
+    for case in EDGE_CASES:
+        counts, errors = run_edge(binary, case)
+        print(f"\n{case}: {counts}")
+        assert counts["differ"] == 0, errors
+        assert counts["hits"] > 0.3 * counts["tested"]
+        differ_inflated += run_edge(inflated, case)[0]["differ"]
+    assert differ_inflated > 0
+
+
+def test_a_body_thinner_than_the_reach_does_not_pass_through_unseen(tmp_path):
+    """A tiny tetrahedron by each face of a rock, certified just outside it and just inside, then moved through the
+    face in one evaluation: every crossing is again what it was (none), but B has gone in or out. The cached
+    evaluation must give the search's volume; a build without the outside vertices that watched pairs need gets it
+    wrong."""
+    binary = build_driver(tmp_path, name="crossing_cache_thin")
+    unchecked = build_driver(tmp_path, ["-DPOLY_CACHE_OUTSIDE_CHECKS=0"], name="crossing_cache_thin")
+    command = [os.path.join(SHAPES, "rock_70.obj"), os.path.join(SHAPES, "tetrahedron.obj"), "1e-3"]
+    for build, expect_wrong in ((binary, False), (unchecked, True)):
+        out = subprocess.run([build] + command, capture_output=True, text=True, check=True).stdout
+        print("\n" + out)
+        rows = {line.split()[0]: dict(zip(line.split()[1::2], (int(w) for w in line.split()[2::2])))
+                for line in out.splitlines()}
+        assert rows["into"]["tried"] > 50 and rows["out"]["tried"] > 50
+        wrong = rows["into"]["wrong"] + rows["out"]["wrong"]
+        assert (wrong > 0) if expect_wrong else (wrong == 0)
 
 
 def pile_deck(cache):
