@@ -39,7 +39,7 @@
 #define POLY_CACHE_OUTSIDE_CHECKS 1
 #endif
 #ifndef POLY_CACHE_GATE
-#define POLY_CACHE_GATE 0.25
+#define POLY_CACHE_GATE 1.0
 #endif
 /* A certificate reaches POLY_CACHE_REACH caps: the pairs whose margins fall below it (at most POLY_CACHE_WATCH, the
  * least) are watched, decided again once B's motion reaches their margins, instead of ending the certificate
@@ -569,9 +569,10 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
   const double cap = POLY_CACHE_CAP * ((double)a->bounding_radius + (double)b->bounding_radius);
   const int known = cache->shape_a == (const void *)a->vertices && cache->shape_b == (const void *)b->vertices;
   /* A pair that moved by less than POLY_CACHE_GATE of the cap since its last search may keep a certificate for a
-   * few steps (a quarter, with certificates reaching 8 caps; before the watched pairs, a sixteenth of a certificate
-   * of at most one cap). A certificate costs about a search, an evaluation from it a quarter of one: a pair whose
-   * certificate served fewer than two evaluations waits 1, 2, 4 ... 64 searches before the next. */
+   * few steps (one cap, with certificates reaching 8 and the tighter margins; a sixteenth of a certificate of at
+   * most one cap before; 2 and 8 caps made movingMeshGran's flow slower). A certificate costs about a search, an
+   * evaluation from it a quarter of one: a pair whose certificate served fewer than two evaluations waits 1, 2, 4
+   * ... 64 searches before the next. */
   const double moved = known ? POLY_FN(cache_motion)(cache, a, b, rotation, translation) : cap;
   const int slow = moved < POLY_CACHE_GATE * cap;
   if (known && cache->margin > 0.0) cache->backoff = cache->hits > 1 ? 0 : (cache->backoff ? 2 * cache->backoff : 1);
