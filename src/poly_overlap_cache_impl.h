@@ -380,14 +380,17 @@ POLY_INLINE double POLY_FN(cache_motion)(const poly_crossing_cache *cache, const
          16.0 * (double)POLY_FN(epsilon)() * (2.0 * size + sqrt(far));
 }
 
-/* Does the pair's cache certify, at this pose, a contact (crossings or vertices inside), the watched pairs aside? */
-POLY_INLINE int POLY_FN(cache_certifies_contact)(const poly_crossing_cache *cache, const POLY_FN(shape_view) *a,
-                                                 const POLY_FN(shape_view) *b, const double *rotation,
-                                                 const double *translation)
+/* B's motion since the pair's cached search (cache_motion) when the cache was made for these shapes and its
+ * certificate holds at this pose (the watched pairs aside); else -1. */
+POLY_INLINE double POLY_FN(cache_held_motion)(const poly_crossing_cache *cache, const POLY_FN(shape_view) *a,
+                                              const POLY_FN(shape_view) *b, const double *rotation,
+                                              const double *translation)
 {
-  return cache->margin > 0.0 && (cache->num_records > 0 || cache->num_inside > 0) &&
-         cache->shape_a == (const void *)a->vertices && cache->shape_b == (const void *)b->vertices &&
-         POLY_FN(cache_motion)(cache, a, b, rotation, translation) < cache->margin;
+  if (!(cache->margin > 0.0) || cache->shape_a != (const void *)a->vertices ||
+      cache->shape_b != (const void *)b->vertices)
+    return -1.0;
+  const double motion = POLY_FN(cache_motion)(cache, a, b, rotation, translation);
+  return motion < cache->margin ? motion : -1.0;
 }
 
 /* The crossing records of one body's cached crossings [from, to) at the current pose, with a run per cached edge
@@ -431,10 +434,7 @@ POLY_INLINE void POLY_FN(cache_facet_of_b)(const POLY_FN(shape_view) *b, const d
                                            POLY_FN(overlap_workspace) *ws)
 {
   ws->apex_b[3 * t] = POLY_NO_APEX;
-  const R *normal = b->face_normals + 3 * t;
-  for (int k = 0; k < 3; k++)
-    ws->normals_b[3 * t + k] =
-        (R)(rotation[3 * k] * normal[0] + rotation[3 * k + 1] * normal[1] + rotation[3 * k + 2] * normal[2]);
+  POLY_FN(turn_normal)(rotation, b->face_normals + 3 * t, ws->normals_b + 3 * t);
 }
 
 /* Adds triangle t to the ascending list of `count` triangles once; returns the new count. */
@@ -448,20 +448,15 @@ POLY_INLINE int POLY_FN(cache_add_end)(int *list, int count, int t)
   return count + 1;
 }
 
-/* The pass of a pair whose cache's certificate holds (B's motion since its search under the margin): the records
- * path's sums (runs' inside parts, chords) over the cached crossings, inside vertices and edges, with the nodes in
- * the search's order. `va`, `vb`: the pass's local vertices. Returns 1 with *out filled, 0 when the pair must be
- * searched (no certificate, another pair's cache, moved too far, a crossing that does not hold). */
+/* The pass of a pair whose cache's certificate holds (`motion`, cache_held_motion's, under the margin): the
+ * records path's sums (runs' inside parts, chords) over the cached crossings, inside vertices and edges, with the
+ * nodes in the search's order. `va`, `vb`: the pass's local vertices. Returns 1 with *out filled, 0 when the pair
+ * must be searched (a watched pair decides otherwise, a crossing that does not hold). */
 POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
-                                      const R *vb, const double *rotation, const double *translation, R tolerance,
+                                      const R *vb, const double *rotation, double motion, R tolerance,
                                       POLY_FN(overlap_workspace) *ws, POLY_FN(pass) *out)
 {
   poly_crossing_cache *cache = ws->crossing_cache;
-  if (!(cache->margin > 0.0) || cache->shape_a != (const void *)a->vertices ||
-      cache->shape_b != (const void *)b->vertices)
-    return 0;
-  const double motion = POLY_FN(cache_motion)(cache, a, b, rotation, translation);
-  if (!(motion < cache->margin)) return 0;
   /* The watched pairs whose margins B's motion has reached: decided again, they must decide as at the search. */
   for (int w = 0; POLY_CACHE_WATCH_CHECKS && w < cache->num_watch && !(motion < cache->watch_margin[w]); w++) {
     const int of_b = cache->watch_of_b[w];

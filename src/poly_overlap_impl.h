@@ -469,6 +469,13 @@ POLY_INLINE int POLY_FN(keep_in_slab)(const POLY_FN(shape_view) *body, const R *
  * only cull, so a grown box is safe; grown by the flush tolerance, the pair
  * loop's one box test also finds flush faces a hair apart), and the body's box
  * of kept triangles grown to hold it. */
+/* A normal of B turned into A's frame (`rotation`, row major), rounded to R once. */
+POLY_INLINE void POLY_FN(turn_normal)(const double *rotation, const R *normal, R *out)
+{
+  for (int k = 0; k < 3; k++)
+    out[k] = (R)(rotation[3 * k] * normal[0] + rotation[3 * k + 1] * normal[1] + rotation[3 * k + 2] * normal[2]);
+}
+
 /* The plane of `tri` as the predicates take it: (v1 - v0) x (v2 - v0) and |v1 - v0|_1 |v2 - v0|_1. */
 POLY_INLINE void POLY_FN(triangle_plane)(const R *vertices, const int *tri, R *plane)
 {
@@ -639,12 +646,16 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
 #endif
   for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
 #if POLY_OVERLAP_RECORDS
-  /* A contact whose crossings are certified (cache_replay below) has no parting plane: its boundaries cross, or a
-   * vertex of one lies inside the other. Its supporting triangles are tried only if the replay does not take it. */
+  /* A pair whose cache's certificate holds is evaluated from it (cache_replay below). A contact so certified has
+   * no parting plane: its boundaries cross, or a vertex of one lies inside the other; its supporting triangles are
+   * tried only if the replay does not take it. */
+  const poly_crossing_cache *cache = ws->crossing_cache;
+  const double cache_motion = !separated && ws->cache_pass && cache && ws->use_records
+                                  ? POLY_FN(cache_held_motion)(cache, a, b, rotation, translation)
+                                  : -1.0;
   int support_later = 0;
   if (!separated && use_filter && !(a->face_of && b->face_of) && a->support && b->support) {
-    support_later = ws->cache_pass && ws->crossing_cache && ws->use_records &&
-                    POLY_FN(cache_certifies_contact)(ws->crossing_cache, a, b, rotation, translation);
+    support_later = cache_motion >= 0.0 && (cache->num_records > 0 || cache->num_inside > 0);
     if (!support_later)
       separated = POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b,
                                              &out->separating);
@@ -695,8 +706,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
 
 #if POLY_OVERLAP_RECORDS
   /* A contact whose crossings are certified since its last search: their sums without the filter and search. */
-  if (ws->cache_pass && ws->crossing_cache && ws->use_records &&
-      POLY_FN(cache_replay)(a, va, b, vb, rotation, translation, tolerance, ws, out)) {
+  if (cache_motion >= 0.0 && POLY_FN(cache_replay)(a, va, b, vb, rotation, cache_motion, tolerance, ws, out)) {
     ws->capacity_points = capacity_points;
     return;
   }
@@ -757,10 +767,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     const int s = ws->kept_list_b[n];
     POLY_FN(prepare_kept_triangle)(vb, b->triangles + 3 * s, tolerance, ws->planes_b + 4 * s, ws->bounds_b + 6 * s,
                                    box_b_low, box_b_high);
-    const R *normal = b->face_normals + 3 * s;
-    for (int k = 0; k < 3; k++)
-      ws->normals_b[3 * s + k] =
-          (R)(rotation[3 * k] * normal[0] + rotation[3 * k + 1] * normal[1] + rotation[3 * k + 2] * normal[2]);
+    POLY_FN(turn_normal)(rotation, b->face_normals + 3 * s, ws->normals_b + 3 * s);
   }
   if (!num_kept_a || !num_kept_b) {
     out->filtered_out = 1;
