@@ -57,6 +57,52 @@
 #define POLY_CACHE_ACROSS 2
 #endif
 
+typedef struct POLY_FN(det_growth) {
+  double n[3], c[3], rate[3]; /* the vectors' lengths, the cross products' opposite them, their rates */
+  double rounding, at_rest;   /* the value's rounding bound; F at m = 0 */
+} POLY_FN(det_growth);
+
+/* What of cache_det_margin's margin (below) depends on the vectors only, so that one determinant's margins for two
+ * slacks (the flush test's and none) are made from one. */
+POLY_INLINE void POLY_FN(cache_det_growth)(const R *x, const R *y, const R *z, const int *kind, double inv_rb,
+                                           double fixed, POLY_FN(det_growth) *g)
+{
+  const double eps = (double)POLY_FN(epsilon)();
+  const R *v[3] = {x, y, z};
+  double w[3][3];
+  for (int i = 0; i < 3; i++) {
+    for (int k = 0; k < 3; k++) w[i][k] = (double)v[i][k];
+    /* Lengths and cross products in double, padded for their rounding and for that of the differences themselves
+     * (made in the type R: a sliver's cross product may be far smaller than the product of its lengths). */
+    g->n[i] = (1.0 + 1e-9 + 4.0 * eps) * sqrt(w[i][0] * w[i][0] + w[i][1] * w[i][1] + w[i][2] * w[i][2]);
+    g->rate[i] = kind[i] == POLY_CACHE_OF_A ? 0.0 : (kind[i] == POLY_CACHE_OF_B ? 1.001 * g->n[i] * inv_rb : 1.001);
+  }
+  for (int i = 0; i < 3; i++) {
+    const double *p = w[i == 2 ? 0 : i + 1], *q = w[i == 0 ? 2 : i - 1];
+    const double cx = p[1] * q[2] - p[2] * q[1], cy = p[2] * q[0] - p[0] * q[2], cz = p[0] * q[1] - p[1] * q[0];
+    g->c[i] = (1.0 + 1e-9) * sqrt(cx * cx + cy * cy + cz * cz) +
+              4.0 * eps * g->n[i == 2 ? 0 : i + 1] * g->n[i == 0 ? 2 : i - 1];
+  }
+  const double b = fixed;
+  g->at_rest = b * (g->c[0] + g->c[1] + g->c[2]) + b * b * (g->n[0] + g->n[1] + g->n[2]) + b * b * b;
+  g->rounding = 128.0 * eps * (double)POLY_FN(norm1)(x) * (double)POLY_FN(norm1)(y) * (double)POLY_FN(norm1)(z);
+}
+
+POLY_INLINE double POLY_FN(cache_det_room)(const POLY_FN(det_growth) *g, double fixed, double value, double slack,
+                                           double least, int *ok)
+{
+  const double room = fabs(value) - slack - g->rounding - 1.001 * g->at_rest;
+  *ok = room > 0.0;
+  if (!(room > 0.0)) return 0.0;
+  const double b = fixed;
+  double d[3];
+  for (int i = 0; i < 3; i++) d[i] = g->rate[i] * least + b;
+  const double slope = g->rate[0] * (g->c[0] + d[1] * g->n[2] + g->n[1] * d[2] + d[1] * d[2]) +
+                       g->rate[1] * (g->c[1] + d[0] * g->n[2] + g->n[0] * d[2] + d[0] * d[2]) +
+                       g->rate[2] * (g->c[2] + d[0] * g->n[1] + g->n[0] * d[1] + d[0] * d[1]);
+  return room >= least * slope ? least : room / slope;
+}
+
 /* The motion below which det(x, y, z), of value `value`, keeps its sign: x, y, z change by at most
  * delta_i = rate_i m + fixed (rate by `kind`, above), and det changes by at most
  * F = d0 |y x z| + d1 |z x x| + d2 |x x y| + d0 d1 |z| + d0 |y| d2 + |x| d1 d2 + d0 d1 d2, whose slope in m up to
@@ -67,33 +113,9 @@
 POLY_INLINE double POLY_FN(cache_det_margin)(const R *x, const R *y, const R *z, const int *kind, double inv_rb,
                                              double fixed, double value, double slack, double least, int *ok)
 {
-  const double eps = (double)POLY_FN(epsilon)();
-  const R *v[3] = {x, y, z};
-  double w[3][3], n[3], rate[3], c[3];
-  for (int i = 0; i < 3; i++) {
-    for (int k = 0; k < 3; k++) w[i][k] = (double)v[i][k];
-    /* Lengths and cross products in double, padded for their rounding and for that of the differences themselves
-     * (made in the type R: a sliver's cross product may be far smaller than the product of its lengths). */
-    n[i] = (1.0 + 1e-9 + 4.0 * eps) * sqrt(w[i][0] * w[i][0] + w[i][1] * w[i][1] + w[i][2] * w[i][2]);
-    rate[i] = kind[i] == POLY_CACHE_OF_A ? 0.0 : (kind[i] == POLY_CACHE_OF_B ? 1.001 * n[i] * inv_rb : 1.001);
-  }
-  for (int i = 0; i < 3; i++) {
-    const double *p = w[i == 2 ? 0 : i + 1], *q = w[i == 0 ? 2 : i - 1];
-    const double cx = p[1] * q[2] - p[2] * q[1], cy = p[2] * q[0] - p[0] * q[2], cz = p[0] * q[1] - p[1] * q[0];
-    c[i] = (1.0 + 1e-9) * sqrt(cx * cx + cy * cy + cz * cz) + 4.0 * eps * n[i == 2 ? 0 : i + 1] * n[i == 0 ? 2 : i - 1];
-  }
-  const double b = fixed;
-  const double at_rest = b * (c[0] + c[1] + c[2]) + b * b * (n[0] + n[1] + n[2]) + b * b * b;
-  const double room = fabs(value) - slack - 128.0 * eps * (double)POLY_FN(norm1)(x) * (double)POLY_FN(norm1)(y) *
-                                                 (double)POLY_FN(norm1)(z) - 1.001 * at_rest;
-  *ok = room > 0.0;
-  if (!(room > 0.0)) return 0.0;
-  double d[3];
-  for (int i = 0; i < 3; i++) d[i] = rate[i] * least + b;
-  const double slope = rate[0] * (c[0] + d[1] * n[2] + n[1] * d[2] + d[1] * d[2]) +
-                       rate[1] * (c[1] + d[0] * n[2] + n[0] * d[2] + d[0] * d[2]) +
-                       rate[2] * (c[2] + d[0] * n[1] + n[0] * d[1] + d[0] * d[1]);
-  return room >= least * slope ? least : room / slope;
+  POLY_FN(det_growth) g;
+  POLY_FN(cache_det_growth)(x, y, z, kind, inv_rb, fixed, &g);
+  return POLY_FN(cache_det_room)(&g, fixed, value, slack, least, ok);
 }
 
 /* The motion that leaves the decision on edge p0 p1 against triangle `tri` (vertices `q`) unchanged, or any
@@ -115,8 +137,11 @@ POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R 
   const int plane_kinds[3] = {of_triangle, of_triangle, POLY_CACHE_ACROSS};
   const int edge_kinds[3] = {mine_is_b ? POLY_CACHE_OF_B : POLY_CACHE_OF_A, POLY_CACHE_ACROSS, POLY_CACHE_ACROSS};
   int ok0, ok1;
-  const double m0 = POLY_FN(cache_det_margin)(e1, e2, c0, plane_kinds, inv_rb, fixed, s0, 0.0, least, &ok0);
-  const double m1 = POLY_FN(cache_det_margin)(e1, e2, c1, plane_kinds, inv_rb, fixed, s1, 0.0, least, &ok1);
+  POLY_FN(det_growth) g0, g1;
+  POLY_FN(cache_det_growth)(e1, e2, c0, plane_kinds, inv_rb, fixed, &g0);
+  POLY_FN(cache_det_growth)(e1, e2, c1, plane_kinds, inv_rb, fixed, &g1);
+  const double m0 = POLY_FN(cache_det_room)(&g0, fixed, s0, 0.0, least, &ok0);
+  const double m1 = POLY_FN(cache_det_room)(&g1, fixed, s1, 0.0, least, &ok1);
   double flush = 1e300;
   if (tolerance > 0.0) {
     R plane[3];
@@ -125,8 +150,8 @@ POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R 
     const double reach = 2.0 * tolerance * (double)POLY_FN(norm1)(plane);
     /* Both ends within the reach would send the pair to the flush test: one must stay beyond it. */
     int f0, f1;
-    double r0 = POLY_FN(cache_det_margin)(e1, e2, c0, plane_kinds, inv_rb, fixed, s0, reach, least, &f0);
-    double r1 = POLY_FN(cache_det_margin)(e1, e2, c1, plane_kinds, inv_rb, fixed, s1, reach, least, &f1);
+    double r0 = POLY_FN(cache_det_room)(&g0, fixed, s0, reach, least, &f0);
+    double r1 = POLY_FN(cache_det_room)(&g1, fixed, s1, reach, least, &f1);
     flush = r0 > r1 ? r0 : r1;
     if (!f0 && !f1) return 0.0;
   }
@@ -150,6 +175,9 @@ POLY_INLINE double POLY_FN(cache_pair_margin)(const R *p0, const R *p1, const R 
     const double o = (double)POLY_FN(det)(d, a, b);
     om[k] = POLY_FN(cache_det_margin)(d, a, b, edge_kinds, inv_rb, fixed, o, 0.0, least, &known[k]);
     sign[k] = o > 0;
+    /* The first two disagreeing for good: a miss by a margin of at least `least`, whatever the third. */
+    if (k == 1 && known[0] && known[1] && sign[0] != sign[1] && om[0] >= least && om[1] >= least)
+      return flush < least ? flush : least;
   }
   const int agree = known[0] && known[1] && known[2] && sign[0] == sign[1] && sign[1] == sign[2];
   if (straddles && agree) {

@@ -249,9 +249,12 @@ POLY_INLINE int POLY_FN(boxes_overlap)(const R *low_a, const R *high_a, const R 
 
 POLY_INLINE void POLY_FN(segment_bounds)(const R *p0, const R *p1, R *low, R *high)
 {
+  /* Each bound by one comparison of the form of a minimum or maximum instruction: written as one comparison the
+   * compiler made them a branch, mispredicted half the time (a sixth of the crossing search's samples). */
   for (int k = 0; k < 3; k++) {
-    low[k] = p0[k] < p1[k] ? p0[k] : p1[k];
-    high[k] = p0[k] < p1[k] ? p1[k] : p0[k];
+    const R x = p0[k], y = p1[k];
+    low[k] = y < x ? y : x;
+    high[k] = x < y ? y : x;
   }
 }
 
