@@ -3,7 +3,7 @@
 #
 #   bash tools/bench_cylinder.sh [poses] [repeats]        (defaults 64 and 5; about 10 s)
 #
-# Builds tools/bench_cylinder.c with the package's C flags (-std=c11 -O2) into a
+# Builds tools/bench_cylinder.c with the package's C flags (-std=c11 -O3) into a
 # temporary directory, prints the machine and the commit, then the table: the
 # cost of one poly_cylinder_overlap call per particle-wall contact for each
 # reference shape against a zcylinder of radius 10 particle diameters, inside

@@ -3,7 +3,7 @@
 #
 #   bash tools/bench_overlap.sh [poses] [repeats]        (defaults 64 and 5; about a minute)
 #
-# Builds tools/bench_overlap.c with the package's C flags (-std=c11 -O2) into a
+# Builds tools/bench_overlap.c with the package's C flags (-std=c11 -O3) into a
 # temporary directory, prints the machine and the commit, then the table: the
 # cost of one poly_overlap call for pairs of one shape in packed-bed poses
 # (overlap 0.1-3 % of the particle volume), double and single precision, with
