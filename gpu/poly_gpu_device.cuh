@@ -135,6 +135,7 @@ __device__ View shape_view(const DeviceShapes &s, int shape, const Real *vertice
   v.num_ridges = 0;
   v.support = NULL;
   v.num_support = 0;
+  v.extreme_start = v.extreme_vertices = NULL;
   v.clip.num_faces = 0;  // the clipping path is host-only for now
   v.bounding_radius = (Real)s.radius[shape];
   return v;

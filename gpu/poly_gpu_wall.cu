@@ -58,6 +58,7 @@ template <typename View, typename Real> __device__ inline View prism_view(const 
   prism.num_ridges = 0;
   prism.support = NULL;
   prism.num_support = 0;
+  prism.extreme_start = prism.extreme_vertices = NULL;
   prism.bounding_radius = (Real)piece.bounding_radius;
   return prism;
 }

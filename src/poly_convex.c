@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "poly_clip_polygon.h"
+#include "poly_extremes.h"
 #include "poly_shape.h"
 #include "poly_convex_partition_impl.h"
 
@@ -455,6 +456,8 @@ void poly_shape_free_faces(poly_shape *shape)
   free(shape->clip_vertices);
   free(shape->clip_plane_support);
   free(shape->clip_face_plane);
+  free(shape->extreme_start);
+  free(shape->extreme_vertices);
   forget_faces(shape);
 }
 
@@ -473,6 +476,7 @@ static void forget_faces(poly_shape *shape)
   shape->clip_piece_point_start = shape->clip_piece_points = shape->clip_piece_face_start = shape->clip_piece_faces = NULL;
   shape->num_ridges = shape->num_support = shape->num_clip_faces = shape->num_clip_planes = shape->num_clip_pieces = 0;
   shape->clip_many_faces = 0;
+  shape->extreme_start = shape->extreme_vertices = NULL;
 }
 
 poly_status poly_shape_find_faces(poly_shape *shape)
@@ -483,6 +487,13 @@ poly_status poly_shape_find_faces(poly_shape *shape)
    * convex differs from the intersection of its faces' half-spaces by less than the rounding of the
    * particles' poses). */
   const double tolerance = 1e-12 * shape->bounding_radius;
+  if (nv > POLY_EXTREME_MIN_VERTICES) {
+    const int entries = poly_extreme_table(shape->vertices, nv, shape->bounding_radius, NULL, NULL);
+    shape->extreme_start = (int *)malloc(sizeof(int) * (POLY_EXTREME_CELLS + 1));
+    shape->extreme_vertices = (int *)malloc(sizeof(int) * (size_t)(entries > 0 ? entries : 1));
+    if (!shape->extreme_start || !shape->extreme_vertices) return POLY_ERROR_MEMORY;
+    poly_extreme_table(shape->vertices, nv, shape->bounding_radius, shape->extreme_start, shape->extreme_vertices);
+  }
   shape->support = (int *)malloc(sizeof(int) * (size_t)(nt > 0 ? nt : 1));
   if (!shape->support) return POLY_ERROR_MEMORY;
   for (int t = 0; t < nt; t++)

@@ -683,6 +683,7 @@ static void prism_faces(poly_mesh_prism *prism)
   }
   prism->view.support = prism->support;
   prism->view.num_support = num_support;
+  prism->view.extreme_start = prism->view.extreme_vertices = NULL; /* 6 vertices: scanned */
   prism->view.face_of = prism->view.ridges = NULL;
   prism->view.triangle_edges = NULL;
   prism->view.num_ridges = 0;

@@ -51,6 +51,8 @@ poly_shape_view_d poly_shape_view_of(const poly_shape *shape)
   view.num_ridges = shape->num_ridges;
   view.support = shape->support;
   view.num_support = shape->num_support;
+  view.extreme_start = shape->extreme_start;
+  view.extreme_vertices = shape->extreme_vertices;
   view.bounding_radius = shape->bounding_radius;
   view.clip = clip_faces_of(shape);
   return view;
@@ -82,6 +84,8 @@ int poly_shape_view_make_f(const poly_shape *shape, poly_shape_view_f *view)
   view->num_ridges = shape->num_ridges;
   view->support = shape->support;
   view->num_support = shape->num_support;
+  view->extreme_start = shape->extreme_start;
+  view->extreme_vertices = shape->extreme_vertices;
   view->bounding_radius = (float)shape->bounding_radius;
   view->clip = clip_faces_of(shape);
   return 0;

@@ -130,6 +130,7 @@ typedef struct poly_crossing_cache {
     int num_ridges;                                                                                  \
     const int *support;       /* triangles whose planes support the shape, or NULL (none known) */  \
     int num_support;                                                                                 \
+    const int *extreme_start, *extreme_vertices; /* poly_extremes.h's table, or NULL (scan them all) */ \
     poly_clip_faces clip;     /* double views of convex shapes of few faces: poly_clip.h; else 0 faces */ \
   } poly_shape_view##SUFFIX;                                                                        \
   /* Scratch memory for one pair at a time, sized once for the largest shapes. */                   \

@@ -12,6 +12,7 @@
 #include <stddef.h>
 
 #include "poly_exact.h"
+#include "poly_extremes.h"
 
 #ifndef POLY_OVERLAP_IMPL_COMMON
 #define POLY_OVERLAP_IMPL_COMMON
@@ -527,10 +528,24 @@ POLY_INLINE int POLY_FN(overlap_slab)(const POLY_FN(shape_view) *a, const POLY_F
 POLY_INLINE double POLY_FN(highest_vertex)(const POLY_FN(shape_view) *body, const double *direction, double shift,
                                            int *extreme)
 {
+  const R *v = body->vertices;
+  const int cell = body->extreme_start ? poly_extreme_cell(direction) : -1;
+  if (cell >= 0) {
+    /* The few that can be highest (poly_extremes.h), in ascending order: the same first highest. */
+    double high = -1e300;
+    int at = *extreme;
+    for (int m = body->extreme_start[cell]; m < body->extreme_start[cell + 1]; m++) {
+      const int i = body->extreme_vertices[m];
+      const double along = direction[0] * v[3 * i] + direction[1] * v[3 * i + 1] + direction[2] * v[3 * i + 2] + shift;
+      at = along > high ? i : at;
+      high = along > high ? along : high;
+    }
+    *extreme = at;
+    return high;
+  }
   double high0 = -1e300, high1 = -1e300;
   int at0 = *extreme, at1 = *extreme;
   const int n = body->num_vertices;
-  const R *v = body->vertices;
   for (int i = 0; i < n; i += 2) {
     const int j = i + 1 < n ? i + 1 : i;
     const double along0 = direction[0] * v[3 * i] + direction[1] * v[3 * i + 1] + direction[2] * v[3 * i + 2] + shift;

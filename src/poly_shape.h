@@ -88,6 +88,10 @@ typedef struct poly_shape {
    * for a convex shape). */
   int *support;
   int num_support;
+  /* The vertices that can be highest along the directions of each cell of poly_extremes.h (extreme_start: per cell
+   * its first entry in extreme_vertices, POLY_EXTREME_CELLS + 1 of them), or NULL for shapes of few vertices
+   * (poly_shape_find_faces). */
+  int *extreme_start, *extreme_vertices;
   /* The clipping path's shapes (poly_clip.h; NULL, 0 otherwise): convex shapes of at most POLY_CLIP_MAX_PLANES
    * faces, and shapes that are not convex but split into at most POLY_CLIP_MAX_PIECES convex pieces (their
    * faces are their triangles, or the triangles' parts on each piece). Per face its plane (unit outward
