@@ -5,13 +5,7 @@
 
 #include "poly_clip_limits.h"
 
-#ifndef POLY_INLINE
-#ifdef __CUDACC__
-#define POLY_INLINE static inline __host__ __device__
-#else
-#define POLY_INLINE static inline
-#endif
-#endif
+#include "poly_inline.h"
 
 /* Clips polygon `in` (count corners, 3 each) by the half-space n.x <= d into `out`; returns the new count, or -1
  * when it would exceed `capacity` corners (the caller hands the work on). Each corner's side is computed once and

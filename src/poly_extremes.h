@@ -23,13 +23,7 @@
 #define POLY_EXTREME_REACH_SCALE 1.0
 #endif
 
-#ifndef POLY_INLINE
-#ifdef __CUDACC__
-#define POLY_INLINE static inline __host__ __device__
-#else
-#define POLY_INLINE static inline
-#endif
-#endif
+#include "poly_inline.h"
 
 /* The cell of direction d (any length): the face of its largest component, then the other two components over it,
  * each in [-1, 1], in SIDE bins. -1 for a zero or not finite direction. */
