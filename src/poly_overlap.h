@@ -113,6 +113,12 @@ typedef struct poly_crossing_cache {
   int watch_edge[POLY_CACHE_WATCH], watch_triangle[POLY_CACHE_WATCH]; /* edge of A (of B when watch_of_b) */
   unsigned char watch_of_b[POLY_CACHE_WATCH], watch_crosses[POLY_CACHE_WATCH];
   double watch_margin[POLY_CACHE_WATCH];
+  /* The watched pairs' last check (cache_replay): the first recheck_count of them were decided again at this pose
+   * and keep their decisions while B's motion from it stays under recheck_margin (0: none kept). */
+  double recheck_rotation[9], recheck_translation[3], recheck_margin;
+  int recheck_count;
+  int last_reached;                /* the watched pairs reached at the last evaluation from the cache */
+  int recheck_skips, recheck_backoff, recheck_wait; /* evaluations the last margins spared; rechecks to wait */
 } poly_crossing_cache;
 
 #define POLY_OVERLAP_DECLARE(REAL, SUFFIX)                                                            \

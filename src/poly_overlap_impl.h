@@ -735,7 +735,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
 
 #if POLY_OVERLAP_RECORDS
   /* A contact whose crossings are certified since its last search: their sums without the filter and search. */
-  if (cache_motion >= 0.0 && POLY_FN(cache_replay)(a, va, b, vb, rotation, cache_motion, tolerance, ws, out)) {
+  if (cache_motion >= 0.0 &&
+      POLY_FN(cache_replay)(a, va, b, vb, rotation, translation, cache_motion, tolerance, ws, out)) {
     ws->capacity_points = capacity_points;
     return;
   }

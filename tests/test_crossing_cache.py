@@ -105,6 +105,15 @@ def test_the_watched_pairs_are_decided_again(tmp_path):
     assert differ > 0
 
 
+def test_the_watched_pairs_rechecks_are_checked(tmp_path):
+    """Watched pairs decided again at a pose keep their decisions while B moves by less than their margins from there
+    (cache_recheck): a build with those margins made 1000 times as long must give other results."""
+    binary = build_driver(tmp_path, ["-DPOLY_CACHE_RECHECK_SCALE=1000"])
+    differ = sum(run(binary, shape, "double", start=start)[0]["differ"]
+                 for shape in ("rock_40.obj", "rock_70.obj") for start in ("contact", "near"))
+    assert differ > 0
+
+
 def run_words(command):
     out = subprocess.run(command, capture_output=True, text=True, check=True)
     words = out.stdout.split()
