@@ -505,7 +505,7 @@ int PairPolyhedralVolumetric::new_crossing_cache()
   poly_crossing_cache &cache = crossing_cache_pool[index];
   cache.shape_a = cache.shape_b = NULL;
   cache.margin = 0.0;
-  cache.hits = cache.backoff = cache.skip = 0;
+  cache.hits = cache.backoff = cache.skip = cache.recheck_backoff = cache.recheck_wait = 0;
   return index;
 }
 

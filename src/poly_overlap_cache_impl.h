@@ -487,6 +487,15 @@ POLY_INLINE int POLY_FN(cache_add_end)(int *list, int count, int t)
   return count + 1;
 }
 
+/* The end of a recheck's margins (or of a recheck that made none): the backoff of the next. */
+POLY_INLINE void POLY_FN(cache_recheck_ended)(poly_crossing_cache *cache, int paid)
+{
+  cache->recheck_backoff = paid ? 0 : 2 * cache->recheck_backoff + 1;
+  if (cache->recheck_backoff > 63) cache->recheck_backoff = 63;
+  cache->recheck_wait = cache->recheck_backoff;
+  cache->recheck_count = 0;
+}
+
 /* The margins from this pose (B's relative pose `rotation`, `translation`) of the first `count` watched pairs, just
  * decided as at the search: cache_certificate_way's for each (its box gap, then cache_pair_margin), and the least of
  * them kept with the pose (0 when one of them has none). */
@@ -546,7 +555,7 @@ POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va,
   if (reached > 0 && reached <= cache->recheck_count &&
       POLY_FN(cache_motion_from)(cache->recheck_rotation, cache->recheck_translation, a, b, rotation, translation) <
           cache->recheck_margin) {
-    cache->recheck_skips++;
+    cache->recheck_skips += cache->recheck_skips < 4;
   } else if (reached > 0) {
     for (int w = 0; w < reached; w++) {
       const int of_b = cache->watch_of_b[w];
@@ -558,18 +567,15 @@ POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va,
     }
     /* Their margins from here only once no more pairs are being reached (at rest): while the contact moves on, a
      * new pair each evaluation would end each recheck at once, and the margins cost three times the decisions. */
-    /* Margins that spared fewer than four evaluations make the next wait 1, 3, 7 ... 63 rechecks. */
-    if (cache->recheck_count > 0) {
-      cache->recheck_backoff = cache->recheck_skips >= 4 ? 0 : 2 * cache->recheck_backoff + 1;
-      if (cache->recheck_backoff > 63) cache->recheck_backoff = 63;
-      cache->recheck_wait = cache->recheck_backoff;
-      cache->recheck_count = 0;
-    }
+    /* Margins that spared fewer than four evaluations, or none made (a pair of margin 0), make the next wait 1, 3,
+     * 7 ... 63 rechecks. */
+    if (cache->recheck_count > 0) POLY_FN(cache_recheck_ended)(cache, cache->recheck_skips >= 4);
     if (cache->recheck_wait > 0) {
       cache->recheck_wait--;
     } else if (reached == cache->last_reached) {
       POLY_FN(cache_recheck)(a, va, b, vb, rotation, translation, tolerance, reached, cache);
       cache->recheck_skips = 0;
+      if (cache->recheck_count == 0) POLY_FN(cache_recheck_ended)(cache, 0);
     }
   }
   cache->last_reached = reached;

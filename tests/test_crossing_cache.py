@@ -9,6 +9,8 @@ order, so every result bit must be the search's.
   comparison can fail.
 - tests/unit/crossing_cache_edge.c moves pairs of other shapes and sizes by 0.5 to 0.999 of their certificate's
   margin: the search's bits, and differences when the certificates are inflated only twice.
+- the same driver with `recheck` rechecks the watched pairs past their margins and moves B to 0.5-0.999 of the
+  rechecks' margins from there: the search's bits, and differences when those margins are made twice as long.
 - tests/unit/crossing_cache_thin.c certifies a tiny tetrahedron by a face of a rock and moves it through the face
   in one evaluation (the same crossings, none, but inside or out): the search's volume, and a wrong one in a build
   without the outside vertices that watched pairs need (POLY_CACHE_OUTSIDE_CHECKS=0).
@@ -107,11 +109,35 @@ def test_the_watched_pairs_are_decided_again(tmp_path):
 
 def test_the_watched_pairs_rechecks_are_checked(tmp_path):
     """Watched pairs decided again at a pose keep their decisions while B moves by less than their margins from there
-    (cache_recheck): a build with those margins made 1000 times as long must give other results."""
+    (cache_recheck): a build with those margins made 1000 times as long must give other results in the walks."""
     binary = build_driver(tmp_path, ["-DPOLY_CACHE_RECHECK_SCALE=1000"])
     differ = sum(run(binary, shape, "double", start=start)[0]["differ"]
                  for shape in ("rock_40.obj", "rock_70.obj") for start in ("contact", "near"))
     assert differ > 0
+
+
+RECHECK_CASES = [("rock_40.obj", 1, "rock_70.obj", 0.5, "double", "contact"),
+                 ("rock_40.obj", 1, "rock_40.obj", 1, "double", "near"),
+                 ("rock_70.obj", 1, "rock_20.obj", 0.2, "single", "contact"),
+                 ("rock_40.obj", 1, "rock_40.obj", 1, "single", "contact")]
+
+
+def test_poses_at_the_edge_of_the_rechecks_give_the_search_bits(tmp_path):
+    """B moved past a watched pair's margin, the reached pairs rechecked there, then moved from that pose by 0.5 to
+    0.999 of the rechecks' least margin (tests/unit/crossing_cache_edge.c's `recheck`): every result the search's,
+    most of them with the decisions spared; with the rechecks' margins twice as long the same poses differ."""
+    binary = build_driver(tmp_path, name="crossing_cache_edge")
+    inflated = build_driver(tmp_path, ["-DPOLY_CACHE_RECHECK_SCALE=2"], name="crossing_cache_edge")
+    differ_inflated = 0
+    for a, scale_a, b, scale_b, precision, start in RECHECK_CASES:
+        command = [os.path.join(SHAPES, a), str(scale_a), os.path.join(SHAPES, b), str(scale_b), "200", "20",
+                   precision] + (["near"] if start == "near" else []) + ["recheck"]
+        counts, errors = run_words([binary] + command)
+        print(f"\n{a} {b} {precision} {start}: {counts}")
+        assert counts["differ"] == 0, errors
+        assert counts["rechecked"] > 1000 and counts["spared"] > 0.3 * counts["tested"]
+        differ_inflated += run_words([inflated] + command)[0]["differ"]
+    assert differ_inflated > 0
 
 
 def run_words(command):

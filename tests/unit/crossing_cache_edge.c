@@ -4,9 +4,15 @@
  * evaluated from the cache and by a search, which must give the same bits. Built with the certificates inflated
  * twice (-DPOLY_CACHE_MARGIN_SCALE=2) it must find differences.
  *
- *   crossing_cache_edge A_FILE A_SCALE B_FILE B_SCALE CASES TRIALS double|single [near]
+ * With `recheck`, the edge of the watched pairs' rechecks (cache_recheck) instead: B moved past the first watched
+ * pair's margin (within the certificate) and evaluated twice there, so that the reached pairs are decided again and
+ * their margins from that pose made, then moved from it by those fractions of the least of them; built with the
+ * rechecks' margins twice as long (-DPOLY_CACHE_RECHECK_SCALE=2) it must find differences.
  *
- * Prints the certificates, the poses tested, those evaluated from the cache and those whose results differ. */
+ *   crossing_cache_edge A_FILE A_SCALE B_FILE B_SCALE CASES TRIALS double|single [near] [recheck]
+ *
+ * Prints the certificates, the poses tested, those evaluated from the cache and those whose results differ; with
+ * `recheck` also the rechecks made and the poses whose watched decisions they spared. */
 #define _POSIX_C_SOURCE 199309L
 #include <string.h>
 
@@ -35,15 +41,37 @@ static void random_unit(double *u)
   const double z = 2.0 * uniform() - 1.0, angle = 2.0 * PI * uniform(), r = sqrt(1.0 - z * z);
   u[0] = r * cos(angle), u[1] = r * sin(angle), u[2] = z;
 }
+/* B's pose b moved by the cache's motion m (less its rounding term): |R - R0|_F rb = s m and |dT| = (1 - s) m for a
+ * random s, about a random axis and along a random direction. */
+static void move(const poly_pose *b, double m, double rb, double size, poly_pose *moved)
+{
+  const double rounding = 16.0 * (single ? 5.9604645e-8 : 1.1102230246251565e-16) * (2.0 * size + 4.0 * size);
+  const double s = uniform(), budget = m - rounding;
+  const double frob = s * budget / rb, angle = 2.0 * asin(frob / (2.0 * sqrt(2.0)));
+  double axis[3], u[3];
+  random_unit(axis);
+  random_unit(u);
+  *moved = *b;
+  double turn[4] = {cos(0.5 * angle), sin(0.5 * angle) * axis[0], sin(0.5 * angle) * axis[1], sin(0.5 * angle) * axis[2]}, q[4];
+  poly_quat_multiply(turn, b->quaternion, q);
+  for (int k = 0; k < 4; k++) moved->quaternion[k] = q[k];
+  for (int k = 0; k < 3; k++) moved->position[k] = b->position[k] + (1.0 - s) * budget * u[k];
+}
 int main(int argc, char **argv)
 {
   if (argc < 8) {
-    fprintf(stderr, "usage: crossing_cache_edge A_FILE A_SCALE B_FILE B_SCALE CASES TRIALS double|single [near]\n");
+    fprintf(stderr, "usage: crossing_cache_edge A_FILE A_SCALE B_FILE B_SCALE CASES TRIALS double|single [near] "
+                    "[recheck]\n");
     return 2;
   }
   poly_shape sa, sb;
   if (load_shape(".", argv[1], atof(argv[2]), &sa) || load_shape(".", argv[3], atof(argv[4]), &sb)) return 1;
-  const int cases = atoi(argv[5]), trials = atoi(argv[6]), near = argc > 8 && !strcmp(argv[8], "near");
+  const int cases = atoi(argv[5]), trials = atoi(argv[6]);
+  int near = 0, recheck = 0;
+  for (int i = 8; i < argc; i++) {
+    near |= !strcmp(argv[i], "near");
+    recheck |= !strcmp(argv[i], "recheck");
+  }
   single = !strcmp(argv[7], "single");
   da = poly_shape_view_of(&sa), db = poly_shape_view_of(&sb);
   if (poly_shape_view_make_f(&sa, &fa) || poly_shape_view_make_f(&sb, &fb)) return 1;
@@ -57,7 +85,7 @@ int main(int argc, char **argv)
   poly_crossing_cache cache, saved;
   cd.crossing_cache = cf.crossing_cache = &cache;
   const double rb = sb.bounding_radius, size = sa.bounding_radius + sb.bounding_radius;
-  long tested = 0, hits = 0, differ = 0, certs = 0;
+  long tested = 0, hits = 0, differ = 0, certs = 0, rechecked = 0, spared = 0;
   const double fractions[4] = {0.5, 0.9, 0.99, 0.999};
   for (int c = 0; c < cases; c++) {
     poly_pose a = {{0, 0, 0}, {1, 0, 0, 0}}, b;
@@ -79,34 +107,45 @@ int main(int argc, char **argv)
     evaluate(&a, &b, &cd, &cf, &r);
     if (!(cache.margin > 0.0)) continue;
     certs++;
+    if (recheck && cache.num_watch == 0) continue;
     saved = cache;
     for (int t = 0; t < trials; t++) {
       cache = saved;
-      const double m = fractions[t % 4] * saved.margin * (1.0 - 1e-9);
-      /* Split the motion between turn and shift: |R - R0|_F rb = s m, |dT| = (1 - s) m, less the rounding term. */
-      const double rounding = 16.0 * (single ? 5.9604645e-8 : 1.1102230246251565e-16) * (2.0 * size + 4.0 * size);
-      const double s = uniform(), budget = m - rounding;
-      const double frob = s * budget / rb, angle = 2.0 * asin(frob / (2.0 * sqrt(2.0)));
-      double axis[3], u[3];
-      random_unit(axis);
-      random_unit(u);
-      poly_pose b1 = b;
-      double turn[4] = {cos(0.5 * angle), sin(0.5 * angle) * axis[0], sin(0.5 * angle) * axis[1], sin(0.5 * angle) * axis[2]}, q[4];
-      poly_quat_multiply(turn, b.quaternion, q);
-      for (int k = 0; k < 4; k++) b1.quaternion[k] = q[k];
-      for (int k = 0; k < 3; k++) b1.position[k] = b.position[k] + (1.0 - s) * budget * u[k];
-      long h0 = cd.cache_hits + cf.cache_hits;
-      poly_overlap_result with, without;
-      evaluate(&a, &b1, &cd, &cf, &with);
-      evaluate(&a, &b1, &pd, &pf, &without);
-      tested++;
-      hits += cd.cache_hits + cf.cache_hits > h0;
-      if (!same(&with, &without)) {
-        if (differ < 5) fprintf(stderr, "case %d trial %d frac %g: volume %.17g vs %.17g\n", c, t, fractions[t % 4], with.volume, without.volume);
-        differ++;
+      poly_pose from = b;
+      poly_crossing_cache start = saved;
+      if (recheck) {
+        /* Past the first watched pair's margin, within the certificate: evaluated twice, the second rechecks. */
+        poly_overlap_result r1;
+        move(&b, saved.watch_margin[0] + uniform() * 0.5 * (saved.margin - saved.watch_margin[0]), rb, size, &from);
+        evaluate(&a, &from, &cd, &cf, &r1);
+        evaluate(&a, &from, &cd, &cf, &r1);
+        if (!(cache.recheck_count > 0 && cache.recheck_margin > 0.0 && cache.margin > 0.0)) continue;
+        rechecked++;
+        start = cache;
+      }
+      for (int f = 0; f < (recheck ? 8 : 1); f++) {
+        cache = start;
+        const double fraction = fractions[(recheck ? f : t) % 4];
+        const double m = fraction * (recheck ? start.recheck_margin : start.margin) * (1.0 - 1e-9);
+        poly_pose b1;
+        move(&from, m, rb, size, &b1);
+        const int skips = cache.recheck_skips;
+        long h0 = cd.cache_hits + cf.cache_hits;
+        poly_overlap_result with, without;
+        evaluate(&a, &b1, &cd, &cf, &with);
+        evaluate(&a, &b1, &pd, &pf, &without);
+        tested++;
+        spared += cache.recheck_skips > skips;
+        hits += cd.cache_hits + cf.cache_hits > h0;
+        if (!same(&with, &without)) {
+          if (differ < 5) fprintf(stderr, "case %d trial %d frac %g: volume %.17g vs %.17g\n", c, t, fraction, with.volume, without.volume);
+          differ++;
+        }
       }
     }
   }
-  printf("certificates %ld tested %ld hits %ld differ %ld\n", certs, tested, hits, differ);
+  printf("certificates %ld tested %ld hits %ld differ %ld", certs, tested, hits, differ);
+  if (recheck) printf(" rechecked %ld spared %ld", rechecked, spared);
+  printf("\n");
   return 0;
 }
