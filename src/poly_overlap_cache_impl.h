@@ -395,8 +395,8 @@ POLY_INLINE double POLY_FN(cache_certificate_way)(const POLY_FN(shape_view) *min
   return least;
 }
 
-/* How far B's points have moved in A's body frame since the cache's pose, at most: |R - R0|_F r_B + |T - T0|,
- * and the rounding of the local coordinates (both poses'). */
+/* How far B's points have moved in A's body frame since the pose (R0, T0) (the cache's search, or its watched pairs'
+ * last recheck), at most: |R - R0|_F r_B + |T - T0|, and the rounding of the local coordinates (both poses'). */
 POLY_INLINE double POLY_FN(cache_motion_from)(const double *rotation0, const double *translation0,
                                               const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
                                               const double *rotation, const double *translation)
