@@ -215,9 +215,7 @@ POLY_INLINE int POLY_FN(block_flush)(const POLY_FN(shape_view) *a, const R *va, 
           }
           if (!POLY_FN(boxes_overlap)(box_t, box_t + 3, box_u)) continue;
           POLY_FN(triangle_plane)(vb, tri_u, plane_u);
-          const R *m = b->face_normals + 3 * u;
-          for (int k = 0; k < 3; k++)
-            normal_u[k] = (R)(rotation[3 * k] * m[0] + rotation[3 * k + 1] * m[1] + rotation[3 * k + 2] * m[2]);
+          POLY_FN(turn_normal)(rotation, b->face_normals + 3 * u, normal_u);
           if (POLY_FN(triangles_flush)(va, tri_t, plane_t, a->face_normals + 3 * t, vb, tri_u, plane_u, normal_u,
                                        tolerance))
             return 1;

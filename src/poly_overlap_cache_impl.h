@@ -292,6 +292,45 @@ POLY_INLINE int POLY_FN(cache_outside_vertices)(const POLY_FN(shape_view) *a, co
   return 0;
 }
 
+/* The local coordinates' rounding, in the pose of translation T and in any within `reach` of it: 32 units of
+ * roundoff of the largest coordinate (the origin lies between the bodies on the centre line). */
+POLY_INLINE double POLY_FN(cache_fixed)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                        const double *translation, double reach)
+{
+  const double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
+                               translation[2] * translation[2]),
+               size = (double)a->bounding_radius + (double)b->bounding_radius;
+  return 32.0 * (double)POLY_FN(epsilon)() * (2.0 * size + distance + reach);
+}
+
+/* The margin of edge p0 p1 (box [low, high]) against triangle `tri` of the other body (box `box`, unpadded): the
+ * boxes' gap, beyond the flush test's growth of them, when that is at least `least`, else cache_pair_margin. */
+POLY_INLINE double POLY_FN(cache_boxed_margin)(const R *p0, const R *p1, const R *low, const R *high, const R *box,
+                                               const R *q, const int *tri, double tolerance, int mine_is_b,
+                                               double inv_rb, double fixed, double least)
+{
+  double gap = 0.0;
+  for (int k = 0; k < 3; k++) {
+    double g = (double)box[k] - (double)high[k], h = (double)low[k] - (double)box[3 + k];
+    g = g > h ? g : h;
+    gap = g > gap ? g : gap;
+  }
+  /* Boxes apart, by more than the flush test's growth of them: a miss for as long as they stay apart. */
+  gap = 0.5 * (gap - 4.0 * tolerance);
+  if (gap >= least) return gap;
+  return POLY_FN(cache_pair_margin)(p0, p1, q, tri, tolerance, gap > 0.0 ? gap : 0.0, mine_is_b, inv_rb, fixed, least);
+}
+
+/* Watched pair w's decision at the pose of `va`, `vb` (cache_decide on its edge and triangle). */
+POLY_INLINE int POLY_FN(cache_watched_decision)(const POLY_FN(shape_view) *a, const R *va,
+                                                const POLY_FN(shape_view) *b, const R *vb,
+                                                const poly_crossing_cache *cache, int w, R tolerance)
+{
+  return cache->watch_of_b[w]
+             ? POLY_FN(cache_decide)(b, vb, 1, cache->watch_edge[w], a, va, cache->watch_triangle[w], tolerance)
+             : POLY_FN(cache_decide)(a, va, 0, cache->watch_edge[w], b, vb, cache->watch_triangle[w], tolerance);
+}
+
 /* How far, along the slab's axis, a point's place against the other body's extreme may move while B moves by d <
  * cap (translation T of B in A's frame): by d itself, and by the axis (the centre line, T / |T|) turning by up to
  * 2 d / |T| at points up to r_A + r_B + |T| from A's centre; twice that, and 2 cap for the two bodies' motion. */
@@ -374,18 +413,9 @@ POLY_INLINE double POLY_FN(cache_certificate_way)(const POLY_FN(shape_view) *min
     const R *p0 = my_vertices + 3 * mine->edges[2 * e], *p1 = my_vertices + 3 * mine->edges[2 * e + 1];
     const R *low = edge_boxes + 6 * m, *high = low + 3;
     for (int n = 0; n < num_near; n++) {
-      const R *box = boxes + 6 * n;
-      double gap = 0.0;
-      for (int k = 0; k < 3; k++) {
-        double g = (double)box[k] - (double)high[k], h = (double)low[k] - (double)box[3 + k];
-        g = g > h ? g : h;
-        gap = g > gap ? g : gap;
-      }
-      /* Boxes apart, by more than the flush test's growth of them: a miss for as long as they stay apart. */
-      gap = 0.5 * (gap - 4.0 * tolerance);
-      if (gap >= least) continue;
-      double margin = POLY_FN(cache_pair_margin)(p0, p1, other_vertices, other->triangles + 3 * near[n], tolerance,
-                                                 gap > 0.0 ? gap : 0.0, mine_is_b, inv_rb, fixed, least);
+      const double margin = POLY_FN(cache_boxed_margin)(p0, p1, low, high, boxes + 6 * n, other_vertices,
+                                                        other->triangles + 3 * near[n], tolerance, mine_is_b, inv_rb,
+                                                        fixed, least);
       if (margin < least) {
         least = POLY_FN(cache_watch)(cache, e, near[n], mine_is_b, margin, least);
         if (!(least > 0.0)) return 0.0;
@@ -503,12 +533,8 @@ POLY_INLINE void POLY_FN(cache_recheck)(const POLY_FN(shape_view) *a, const R *v
                                         const R *vb, const double *rotation, const double *translation, R tolerance,
                                         int count, poly_crossing_cache *cache)
 {
-  const double size = (double)a->bounding_radius + (double)b->bounding_radius, reach = POLY_CACHE_REACH *
-                                                                                        POLY_CACHE_CAP * size;
-  const double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
-                               translation[2] * translation[2]);
-  const double fixed = 32.0 * (double)POLY_FN(epsilon)() * (2.0 * size + distance + reach),
-               inv_rb = 1.0 / (double)b->bounding_radius;
+  const double reach = POLY_CACHE_REACH * POLY_CACHE_CAP * ((double)a->bounding_radius + (double)b->bounding_radius);
+  const double fixed = POLY_FN(cache_fixed)(a, b, translation, reach), inv_rb = 1.0 / (double)b->bounding_radius;
   double least = reach;
   for (int w = 0; w < count && least > 0.0; w++) {
     const int of_b = cache->watch_of_b[w], e = cache->watch_edge[w], t = cache->watch_triangle[w];
@@ -518,17 +544,9 @@ POLY_INLINE void POLY_FN(cache_recheck)(const POLY_FN(shape_view) *a, const R *v
     R low[3], high[3], box[6];
     POLY_FN(segment_bounds)(p0, p1, low, high);
     POLY_FN(triangle_bounds)(other_vertices, other->triangles + 3 * t, box, box + 3);
-    double gap = 0.0;
-    for (int k = 0; k < 3; k++) {
-      double g = (double)box[k] - (double)high[k], h = (double)low[k] - (double)box[3 + k];
-      g = g > h ? g : h;
-      gap = g > gap ? g : gap;
-    }
-    gap = 0.5 * (gap - 4.0 * (double)tolerance);
-    if (gap >= least) continue;
-    const double margin = POLY_FN(cache_pair_margin)(p0, p1, other_vertices, other->triangles + 3 * t,
-                                                     (double)tolerance, gap > 0.0 ? gap : 0.0, of_b, inv_rb, fixed,
-                                                     least);
+    const double margin = POLY_FN(cache_boxed_margin)(p0, p1, low, high, box, other_vertices,
+                                                      other->triangles + 3 * t, (double)tolerance, of_b, inv_rb,
+                                                      fixed, least);
     least = margin < least ? margin : least;
   }
   for (int k = 0; k < 9; k++) cache->recheck_rotation[k] = rotation[k];
@@ -557,17 +575,11 @@ POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va,
           cache->recheck_margin) {
     cache->recheck_skips += cache->recheck_skips < 4;
   } else if (reached > 0) {
-    for (int w = 0; w < reached; w++) {
-      const int of_b = cache->watch_of_b[w];
-      const int decision = of_b ? POLY_FN(cache_decide)(b, vb, 1, cache->watch_edge[w], a, va,
-                                                        cache->watch_triangle[w], tolerance)
-                                : POLY_FN(cache_decide)(a, va, 0, cache->watch_edge[w], b, vb,
-                                                        cache->watch_triangle[w], tolerance);
-      if (decision != (int)cache->watch_crosses[w]) return 0;
-    }
+    for (int w = 0; w < reached; w++)
+      if (POLY_FN(cache_watched_decision)(a, va, b, vb, cache, w, tolerance) != (int)cache->watch_crosses[w]) return 0;
     /* Their margins from here only once no more pairs are being reached (at rest): while the contact moves on, a
-     * new pair each evaluation would end each recheck at once, and the margins cost three times the decisions. */
-    /* Margins that spared fewer than four evaluations, or none made (a pair of margin 0), make the next wait 1, 3,
+     * new pair each evaluation would end each recheck at once, and the margins cost three times the decisions.
+     * Margins that spared fewer than four evaluations, or none made (a pair of margin 0), make the next wait 1, 3,
      * 7 ... 63 rechecks. */
     if (cache->recheck_count > 0) POLY_FN(cache_recheck_ended)(cache, cache->recheck_skips >= 4);
     if (cache->recheck_wait > 0) {
@@ -720,13 +732,7 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
   }
   cache->skip = cache->backoff;
   const double reach = POLY_CACHE_REACH * cap, band = POLY_FN(cache_band)(a, b, translation, reach);
-  /* The local coordinates' rounding, in this pose and in any within the reach: 32 units of roundoff of the
-   * largest coordinate (the origin lies between the bodies on the centre line). */
-  const double distance = sqrt(translation[0] * translation[0] + translation[1] * translation[1] +
-                               translation[2] * translation[2]),
-               size = (double)a->bounding_radius + (double)b->bounding_radius,
-               fixed = 32.0 * (double)POLY_FN(epsilon)() * (2.0 * size + distance + reach),
-               inv_rb = 1.0 / (double)b->bounding_radius;
+  const double fixed = POLY_FN(cache_fixed)(a, b, translation, reach), inv_rb = 1.0 / (double)b->bounding_radius;
   cache->num_watch = 0;
   cache->recheck_count = cache->last_reached = cache->recheck_skips = cache->recheck_wait = 0;
   cache->recheck_margin = 0.0;
@@ -748,11 +754,7 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
   /* The watched pairs' decisions at the search (those of margin beyond the certificate never come up). */
   int watched = 0;
   for (int w = 0; w < cache->num_watch && margin > 0.0 && cache->watch_margin[w] < margin; w++, watched++) {
-    const int of_b = cache->watch_of_b[w];
-    const int decision = of_b ? POLY_FN(cache_decide)(b, vb, 1, cache->watch_edge[w], a, va, cache->watch_triangle[w],
-                                                      f->tolerance)
-                              : POLY_FN(cache_decide)(a, va, 0, cache->watch_edge[w], b, vb, cache->watch_triangle[w],
-                                                      f->tolerance);
+    const int decision = POLY_FN(cache_watched_decision)(a, va, b, vb, cache, w, f->tolerance);
     if (decision < 0) margin = 0.0;
     cache->watch_crosses[w] = (unsigned char)(decision > 0);
     cache->watch_margin[w] *= POLY_CACHE_MARGIN_SCALE;

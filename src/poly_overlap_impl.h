@@ -468,11 +468,6 @@ POLY_INLINE int POLY_FN(keep_in_slab)(const POLY_FN(shape_view) *body, const R *
   return count;
 }
 
-/* For a triangle that survives the filter: its plane for the predicates
- * ((v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1), its box grown by `grow` (boxes
- * only cull, so a grown box is safe; grown by the flush tolerance, the pair
- * loop's one box test also finds flush faces a hair apart), and the body's box
- * of kept triangles grown to hold it. */
 /* A normal of B turned into A's frame (`rotation`, row major), rounded to R once. */
 POLY_INLINE void POLY_FN(turn_normal)(const double *rotation, const R *normal, R *out)
 {
@@ -490,6 +485,11 @@ POLY_INLINE void POLY_FN(triangle_plane)(const R *vertices, const int *tri, R *p
   plane[3] = POLY_FN(norm1)(e1) * POLY_FN(norm1)(e2);
 }
 
+/* For a triangle that survives the filter: its plane for the predicates
+ * ((v1-v0)x(v2-v0) and |v1-v0|_1 |v2-v0|_1), its box grown by `grow` (boxes
+ * only cull, so a grown box is safe; grown by the flush tolerance, the pair
+ * loop's one box test also finds flush faces a hair apart), and the body's box
+ * of kept triangles grown to hold it. */
 POLY_INLINE void POLY_FN(prepare_kept_triangle)(const R *vertices, const int *tri, R grow, R *plane, R *bounds,
                                                 R *box_low, R *box_high)
 {
