@@ -310,6 +310,7 @@ static __device__ inline int POLY_FN(warp_overlap)(const POLY_FN(shape_view) *a,
   result->num_nodes = result->num_inconsistent = 0;
   result->filtered_out = result->recomputed = result->smoothed = 0;
   result->separating = -1;
+  result->gap = 0.0;
   for (int e = 0; e < 6; e++) result->second_moment[e] = 0.0;
 
   /* The slab (overlap_slab): the extreme vertices, over the lanes. */

@@ -30,7 +30,7 @@ static const double kHertzFraction = 0.1;
 
 PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
     : Pair(lmp), computeflag(0), listgranhistory(NULL), tangential_history(true), damping(true),
-      rocking_damping(true), cohesion(false), crossing_cache(true),
+      rocking_damping(true), cohesion(false), crossing_cache(true), skip_apart(true),
 #ifdef POLY_SINGLE_PRECISION
       precision(POLY_PRECISION_SINGLE),
 #else
@@ -99,6 +99,9 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
     } else if (strcmp(key, "crossing_cache") == 0) {
       ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
       crossing_cache = strcmp(value, "on") == 0;
+    } else if (strcmp(key, "skip_apart") == 0) {
+      ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
+      skip_apart = strcmp(value, "on") == 0;
     } else if (strcmp(key, "precision") == 0) {
       ok = strcmp(value, "double") == 0 || strcmp(value, "single") == 0 || strcmp(value, "mixed") == 0;
       precision = strcmp(value, "single") == 0  ? POLY_PRECISION_SINGLE
@@ -108,7 +111,7 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
       char message[256];
       snprintf(message, sizeof message,
                "Pair polyhedral/volumetric: unknown keyword '%s' (tangential, damping, rocking_damping, precision, "
-               "crossing_cache; LIGGGHTS' model, cohesion, rolling_friction, surface)",
+               "crossing_cache, skip_apart; LIGGGHTS' model, cohesion, rolling_friction, surface)",
                key);
       error->all(FLERR, message);
     }
@@ -517,14 +520,54 @@ void PairPolyhedralVolumetric::release_crossing_cache(int slot)
   }
 }
 
-bool PairPolyhedralVolumetric::still_separated(int i, int j, int hint)
+bool PairPolyhedralVolumetric::still_separated(int i, int j, int hint, double *gap)
 {
   poly_pose pose_i, pose_j;
   poses(i, j, &pose_i, &pose_j);
   int si = atom->shapetype[i], sj = atom->shapetype[j];
   if (precision == POLY_PRECISION_DOUBLE)
-    return poly_overlap_still_separated_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, hint);
-  return poly_overlap_still_separated_f(&views_f[si], &pose_i, &views_f[sj], &pose_j, hint);
+    return poly_overlap_still_separated_d(&views_d[si], &pose_i, &views_d[sj], &pose_j, hint, gap);
+  return poly_overlap_still_separated_f(&views_f[si], &pose_i, &views_f[sj], &pose_j, hint, gap);
+}
+
+// Each particle's travel since the neighbour-list build: per step |dx| + 2 r |dq|, r its bounding radius, q of
+// the sign nearest the last (a point at distance r from the centre turned by theta runs a chord of
+// 2 r sin(theta/2) <= 4 r sin(theta/4) = 2 r |dq|). Between builds atoms keep their index and ghosts their image;
+// at a build, or when the count changes (an insertion), every travel and wait starts again.
+void PairPolyhedralVolumetric::update_travel(size_t num_pairs)
+{
+  const int nall = atom->nlocal + atom->nghost;
+  double **x = atom->x, **q = atom->quaternion, *radius = atom->radius;
+  const bool restart = neighbor->ago == 0 || travel.size() != (size_t) nall || apart_until.size() != num_pairs;
+  if (restart) {
+    travel.assign(nall, 0.0);
+    last_pose.resize(7 * (size_t) nall);
+    apart_until.assign(num_pairs, -1.0);
+  }
+  for (int i = 0; i < nall; i++) {
+    double *last = &last_pose[7 * (size_t) i];
+    if (!restart) {
+      double moved = 0.0, minus = 0.0, plus = 0.0;
+      for (int k = 0; k < 3; k++) moved += (x[i][k] - last[k]) * (x[i][k] - last[k]);
+      for (int k = 0; k < 4; k++) {
+        minus += (q[i][k] - last[3 + k]) * (q[i][k] - last[3 + k]);
+        plus += (q[i][k] + last[3 + k]) * (q[i][k] + last[3 + k]);
+      }
+      travel[i] += sqrt(moved) + 2.0 * radius[i] * sqrt(minus < plus ? minus : plus);
+    }
+    for (int k = 0; k < 3; k++) last[k] = x[i][k];
+    for (int k = 0; k < 4; k++) last[3 + k] = q[i][k];
+  }
+}
+
+// Pair `slot` (i, j) found apart by `gap`: it waits while i and j travel less than that, less the rounding of
+// their relative pose (of the order of their coordinates' rounding) and of the travels' sums.
+void PairPolyhedralVolumetric::start_apart(int slot, int i, int j, double gap)
+{
+  double **x = atom->x, coordinates = 0.0;
+  for (int k = 0; k < 3; k++) coordinates += fabs(x[i][k]) + fabs(x[j][k]);
+  const double budget = gap * (1.0 - 1e-9) - 1e-14 * coordinates;
+  if (budget > 0.0) apart_until[slot] = travel[i] + travel[j] + budget;
 }
 
 // The statistics of compute pair/polyhedral/local's vector; an edge still
@@ -584,6 +627,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
     num_hints += numneigh[ilist[ii]];
   }
   if (separating_hint.size() < num_hints) separating_hint.resize(num_hints, -1);
+  if (skip_apart) update_travel(num_hints);
   // The contacts' crossing caches, laid out as the hints; started afresh at each neighbour-list build (a cache
   // left to another pair would be safe, its certificate being geometric, but its slot's bookkeeping would not).
   if (crossing_cache && (neighbor->ago == 0 || crossing_cache_of.size() != num_hints)) {
@@ -609,10 +653,17 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
         if (si <= 0 || sj <= 0 || si >= num_shapes || sj >= num_shapes)
           error->one(FLERR, "Pair polyhedral/volumetric: a particle has a shape without template");
         evaluations.candidates++;
-        if (hints[jj] < 0 || !still_separated(i, j, hints[jj])) {
+        const int slot = hint_offset[ii] + jj;
+        double gap = 0.0;
+        if (skip_apart && apart_until[slot] > travel[i] + travel[j]) {
+          evaluations.hinted++;
+        } else if (hints[jj] >= 0 && still_separated(i, j, hints[jj], &gap)) {
+          evaluations.hinted++;
+          if (skip_apart) start_apart(slot, i, j, gap);
+        } else {
           poly_crossing_cache *cache = NULL;
           if (crossing_cache) {
-            int &index = crossing_cache_of[hint_offset[ii] + jj];
+            int &index = crossing_cache_of[slot];
             if (index < 0) index = new_crossing_cache();
             cache = &crossing_cache_pool[index];
           }
@@ -620,6 +671,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
           overlap(i, j, &geometry, cache);
           const bool from_cache = workspace_d.cache_hits + workspace_f.cache_hits > hits;
           hints[jj] = geometry.separating;
+          if (skip_apart && geometry.filtered_out) start_apart(slot, i, j, geometry.gap);
           count_degenerate(geometry);
           // Faces that touch exactly come out with a round-off volume (the symbolic
           // perturbation may push them together by an infinitesimal amount): below
@@ -633,8 +685,6 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
           if (in_contact) evaluations.contacts++;
           else if (geometry.filtered_out) evaluations.parted++;
           else evaluations.near_misses++;
-        } else {
-          evaluations.hinted++;
         }
       }
       if (!in_contact) {
@@ -753,5 +803,6 @@ double PairPolyhedralVolumetric::memory_usage()
   double bytes = Pair::memory_usage();
   bytes += (double) records.capacity() * sizeof(PolyContactRecord);
   bytes += (double) (separating_hint.capacity() + hint_offset.capacity()) * sizeof(int);
+  bytes += (double) (travel.capacity() + last_pose.capacity() + apart_until.capacity()) * sizeof(double);
   return bytes;
 }

@@ -99,6 +99,7 @@ class PairPolyhedralVolumetric : public Pair {
  protected:
   bool tangential_history, damping, rocking_damping, cohesion;
   bool crossing_cache;  // `crossing_cache on` (default): contacts reuse their crossings while certified
+  bool skip_apart;      // `skip_apart on` (default): pairs found apart wait until they may have moved their gap
   int precision;  // poly_precision
   std::vector<class Compute *> recorders;
   bool recording;               // on this step
@@ -139,7 +140,14 @@ class PairPolyhedralVolumetric : public Pair {
   // to the next, and one plane shows it. A code left from another pair after a neighbour-list build is safe
   // (poly_overlap_still_separated tests it on the current pose), merely useless.
   std::vector<int> separating_hint, hint_offset;
-  bool still_separated(int i, int j, int hint);
+  bool still_separated(int i, int j, int hint, double *gap);
+  // A pair found apart waits, not evaluated, until its two particles may have moved the gap proved between them
+  // (poly_overlap_result's gap): `travel`, per particle (owned and ghost), how far any of its points may have moved
+  // since the neighbour-list build, from `last_pose` (x, quaternion) at the last step; `apart_until`, per
+  // neighbour pair (laid out as the hints), the sum of the two travels up to which it stays apart (-1: none).
+  std::vector<double> travel, last_pose, apart_until;
+  void update_travel(size_t num_pairs);
+  void start_apart(int slot, int i, int j, double gap);
   void apply_contact(int i, int j, double volume, double depth, const double *normal, const double *centroid,
                      const poly_contact_output &out, bool persisting);
   const poly_material_pair &material(int itype, int jtype) const

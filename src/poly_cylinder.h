@@ -665,7 +665,7 @@ POLY_INLINE void poly_cylinder_overlap_with(const poly_shape_view_d *shape, cons
                                             const double position[3], const double axis[2], double radius,
                                             int facets, int fast, poly_overlap_result *result)
 {
-  result->volume = result->depth = result->area = result->projected_area = 0.0;
+  result->volume = result->depth = result->area = result->projected_area = result->gap = 0.0;
   for (int k = 0; k < 3; k++) result->centroid[k] = result->normal[k] = 0.0;
   result->num_nodes = result->num_inconsistent = result->filtered_out = result->recomputed = result->smoothed = 0;
   for (int e = 0; e < 6; e++) result->second_moment[e] = 0.0; /* not computed: no rocking damping on cylinders */

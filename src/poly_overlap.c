@@ -155,6 +155,7 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
         memset(result, 0, sizeof *result);                                                            \
         result->filtered_out = 1;                                                                     \
         result->separating = -1;                                                                      \
+        result->gap = poly_proved_gap##SUFFIX(a, b, extent_b - extent_a);                            \
         ws->num_points = 0;                                                                           \
         return 1;                                                                                     \
       }                                                                                               \
@@ -178,6 +179,7 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
     result->num_inconsistent = result->recomputed = result->smoothed = 0;                             \
     result->filtered_out = !(clip.volume > 0.0); /* apart, proved by the clipping */                  \
     result->separating = clip.separating;                                                             \
+    result->gap = 0.0;                                                                                \
     for (int e = 0; e < 6; e++) result->second_moment[e] = clip.second_moment[e];                     \
     for (int k = 0; k < 3; k++) {                                                                     \
       local_centroid[k] = clip.centroid[k];                                                           \
@@ -222,12 +224,12 @@ POLY_OVERLAP_ENTRY(_m)
 #define POLY_STILL_SEPARATED(SUFFIX)                                                                   \
   int poly_overlap_still_separated##SUFFIX(const poly_shape_view##SUFFIX *a, const poly_pose *pose_a, \
                                            const poly_shape_view##SUFFIX *b, const poly_pose *pose_b, \
-                                           int separating)                                            \
+                                           int separating, double *gap)                               \
   {                                                                                                   \
     double rotation_a[9], rotation[9], translation[3];                                                \
     poly_overlap_relative_pose(pose_a->position, pose_a->quaternion, pose_b->position, pose_b->quaternion, \
                                rotation_a, rotation, translation);                                    \
-    return poly_still_separated##SUFFIX(a, b, rotation, translation, separating);                     \
+    return poly_still_separated##SUFFIX(a, b, rotation, translation, separating, gap);                \
   }
 
 POLY_STILL_SEPARATED(_d)

@@ -81,6 +81,10 @@ typedef struct poly_overlap_result {
                              when the workspace's want_second_moment is set (the contact law's rocking damping) */
   int separating;         /* filtered out by a supporting triangle of either shape (poly_shape's support): its code,
                              for poly_overlap_still_separated at the next step; else -1 */
+  double gap;             /* filtered out: a distance the bodies are proved apart by (the slab's or the parting
+                             plane's separation less every rounding and tolerance of this and any later evaluation of
+                             the pair): while the points of the two bodies have moved by less than this, summed over
+                             both, there is no overlap; 0 when not known */
 } poly_overlap_result;
 
 /* What a pair's last crossing search found, kept by the caller from step to step (the pair style, per contact),
@@ -240,11 +244,11 @@ void poly_overlap_m(const poly_shape_view_m *a, const poly_pose *pose_a, const p
  * code from these shapes in this order): 1 when the other body lies wholly in front of that triangle's plane
  * (by 1e-12 of their size; in single precision by more than the normals' rounding), so there is no overlap;
  * 0 otherwise, or for a code that fits neither shape. Costs one plane against one body's vertices, so a pair
- * that stays apart from step to step is rejected without the narrow phase. */
+ * that stays apart from step to step is rejected without the narrow phase. *gap: as poly_overlap_result's. */
 int poly_overlap_still_separated_d(const poly_shape_view_d *a, const poly_pose *pose_a, const poly_shape_view_d *b,
-                                   const poly_pose *pose_b, int separating);
+                                   const poly_pose *pose_b, int separating, double *gap);
 int poly_overlap_still_separated_f(const poly_shape_view_f *a, const poly_pose *pose_a, const poly_shape_view_f *b,
-                                   const poly_pose *pose_b, int separating);
+                                   const poly_pose *pose_b, int separating, double *gap);
 
 /* The nodes of the last overlap computed with ws (by poly_overlap_d, A at pose_a; _f: by poly_overlap_f or _m):
  * world frame, relative to A's position. Writes at most `capacity` nodes (3 doubles each) and returns how many

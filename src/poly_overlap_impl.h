@@ -599,6 +599,7 @@ typedef struct POLY_FN(pass) {
   int num_kept_a, num_kept_b;
   int flush;            /* a kept face of A and one of B lie in one plane to within the smoothing tolerance */
   int separating;       /* filtered out by a supporting triangle: its code (support_separated); else -1 */
+  double gap;           /* filtered out: the gap proved (proved_gap); else 0 */
 } POLY_FN(pass);
 
 /* Length of the finite shift of the flush-face smoothing (see overlap_local),
@@ -606,6 +607,20 @@ typedef struct POLY_FN(pass) {
  * coordinates (about 1e-16 of the size in double, 6e-8 in single), far below
  * any overlap the contact law resolves. */
 POLY_INLINE double POLY_FN(smoothing_length)(void) { return sizeof(R) == sizeof(float) ? 0x1p-16 : 0x1p-36; }
+
+/* A separation a filter found (the slab's along the centre line, or a supporting triangle's plane), made a
+ * distance the bodies are proved apart by: less the filter's own rounding and its tolerances, the rounding of the
+ * local coordinates of any later evaluation in R and the flush faces' tolerance (overlap_local), so that no
+ * evaluation of a pair apart by more can find a volume. 0 when nothing is left. The pair style skips a pair
+ * while the particles have moved less than this since (poly_overlap_result's gap). */
+POLY_INLINE double POLY_FN(proved_gap)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                       double separation)
+{
+  const double size = (double)a->bounding_radius + (double)b->bounding_radius;
+  const double gap =
+      separation - (1e-12 + 256.0 * (double)POLY_FN(epsilon)() + 8.0 * POLY_FN(smoothing_length)()) * size;
+  return gap > 0.0 ? gap : 0.0;
+}
 
 /* Are triangle t of A and triangle s of B flush: every corner of each within
  * `tolerance` of the other's plane (planes as prepare_kept_triangle stores them)?
@@ -662,6 +677,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   out->acc.want_second = ws->want_second_moment && keep_points;
   out->num_points = out->num_inconsistent = out->filtered_out = out->flush = 0;
   out->separating = -1;
+  out->gap = 0.0;
   out->num_kept_a = out->num_kept_b = 0;
   int capacity_points = ws->capacity_points;
 
@@ -674,6 +690,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   int separated = POLY_FN(overlap_slab)(a, b, rotation, translation, axis_d, &extent_a, &extent_b);
 #endif
   for (int k = 0; k < 3; k++) out->axis[k] = axis_d[k];
+  double separation = extent_b - extent_a; /* by the slab; a parting plane's when one parts them */
 #if POLY_OVERLAP_RECORDS
   /* A pair whose cache's certificate holds is evaluated from it (cache_replay below). A contact so certified has
    * no parting plane: its boundaries cross, or a vertex of one lies inside the other; its supporting triangles are
@@ -687,11 +704,12 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     support_later = cache_motion >= 0.0 && (cache->num_records > 0 || cache->num_inside > 0);
     if (!support_later)
       separated = POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b,
-                                             &out->separating);
+                                             &out->separating, &separation);
   }
 #endif
   if (separated && use_filter) {
     out->filtered_out = 1;
+    out->gap = POLY_FN(proved_gap)(a, b, separation);
     return;
   }
   if (!use_filter) {
@@ -741,8 +759,10 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     return;
   }
   if (support_later &&
-      POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b, &out->separating)) {
+      POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b, &out->separating,
+                                 &separation)) {
     out->filtered_out = 1;
+    out->gap = POLY_FN(proved_gap)(a, b, separation);
     ws->capacity_points = capacity_points;
     return;
   }

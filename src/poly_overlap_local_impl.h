@@ -30,6 +30,7 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   result->num_nodes = result->num_inconsistent = 0;
   result->filtered_out = result->recomputed = result->smoothed = 0;
   result->separating = -1;
+  result->gap = 0.0;
   for (int e = 0; e < 6; e++) result->second_moment[e] = 0.0;
   ws->num_points = 0;
 
@@ -88,7 +89,10 @@ POLY_INLINE void POLY_FN(overlap_local)(const POLY_FN(shape_view) *a, const POLY
   double axis_d[3] = {main_pass.axis[0], main_pass.axis[1], main_pass.axis[2]};
   result->filtered_out = main_pass.filtered_out;
   result->separating = main_pass.separating;
-  if (main_pass.filtered_out) return;
+  if (main_pass.filtered_out) {
+    result->gap = main_pass.gap;
+    return;
+  }
 
   result->num_nodes = num_points;
   ws->num_points = num_points;

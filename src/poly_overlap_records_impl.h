@@ -569,10 +569,11 @@ POLY_INLINE double POLY_FN(support_reach)(const POLY_FN(shape_view) *a, const PO
 /* Does the `of_b`-th body's supporting triangle number m (of its support
  * list) part the bodies: the other body wholly in front of its plane by more
  * than `reach`? `start`: a vertex of the other body to try first. (Which
- * triangles face the other body, support_separated decides.) */
+ * triangles face the other body, support_separated decides.) When it does,
+ * *separation is by how much (the other body's lowest vertex above the plane). */
 POLY_INLINE int POLY_FN(support_parts)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
                                        const double *rotation, const double *translation, int of_b, int m,
-                                       double reach, int start)
+                                       double reach, int start, double *separation)
 {
   const POLY_FN(shape_view) *faced = of_b ? b : a, *other = of_b ? a : b;
   int t = faced->support[m];
@@ -599,6 +600,7 @@ POLY_INLINE int POLY_FN(support_parts)(const POLY_FN(shape_view) *a, const POLY_
     double along = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
     if (along < lowest) lowest = along;
   }
+  *separation = lowest - height;
   return lowest - height > reach;
 }
 
@@ -614,10 +616,11 @@ POLY_INLINE int POLY_FN(support_parts)(const POLY_FN(shape_view) *a, const POLY_
  * centre line (`extreme_a`, `extreme_b`: overlap_slab_extremes'; when the
  * bodies touch, mostly behind the triangle): a filter, which may miss a
  * separation the general path then finds. Sets *separating to the triangle's
- * code (2 m + of_b, m its place in the support list) when it parts them. */
+ * code (2 m + of_b, m its place in the support list) and *separation to the
+ * gap in front of it when it parts them. */
 POLY_INLINE int POLY_FN(support_separated)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
                                            const double *rotation, const double *translation, const double *axis,
-                                           int extreme_a, int extreme_b, int *separating)
+                                           int extreme_a, int extreme_b, int *separating, double *separation)
 {
   const double facing = 0.85; /* cos 32 degrees */
   double reach = POLY_FN(support_reach)(a, b);
@@ -636,7 +639,8 @@ POLY_INLINE int POLY_FN(support_separated)(const POLY_FN(shape_view) *a, const P
       const R *n = faced->face_normals + 3 * faced->support[m];
       if (sign * ((double)n[0] * towards[0] + (double)n[1] * towards[1] + (double)n[2] * towards[2]) < facing_here)
         continue;
-      if (POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, reach, of_b ? extreme_a : extreme_b)) {
+      if (POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, reach, of_b ? extreme_a : extreme_b,
+                                 separation)) {
         *separating = 2 * m + of_b;
         return 1;
       }
@@ -647,12 +651,19 @@ POLY_INLINE int POLY_FN(support_separated)(const POLY_FN(shape_view) *a, const P
 
 /* Does the supporting triangle of code `separating` (a result's, from these
  * shapes in this order) still part the bodies? Any code is safe to try: one
- * out of range, or a triangle that no longer parts them, gives 0. */
+ * out of range, or a triangle that no longer parts them, gives 0. *gap: the
+ * proved gap (proved_gap) when it does, else 0. */
 POLY_INLINE int POLY_FN(still_separated)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
-                                         const double *rotation, const double *translation, int separating)
+                                         const double *rotation, const double *translation, int separating,
+                                         double *gap)
 {
   int of_b = separating & 1, m = separating >> 1;
   const POLY_FN(shape_view) *faced = of_b ? b : a;
+  double separation = 0.0;
+  *gap = 0.0;
   if (separating < 0 || !faced->support || m >= faced->num_support) return 0;
-  return POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, POLY_FN(support_reach)(a, b), 0);
+  if (!POLY_FN(support_parts)(a, b, rotation, translation, of_b, m, POLY_FN(support_reach)(a, b), 0, &separation))
+    return 0;
+  *gap = POLY_FN(proved_gap)(a, b, separation);
+  return 1;
 }

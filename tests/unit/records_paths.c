@@ -176,18 +176,19 @@ int main(int argc, char **argv)
      * before), must have no overlap: evaluated without the filter (every triangle, no early exit), its
      * volume is round-off. */
     int parted = fast.filtered_out, codes = 2 * (shape.num_support > 32 ? 32 : shape.num_support), by_code = 0;
+    double gap; /* (tests/test_skip_apart.py checks the gaps) */
     for (int code = -1; code < codes && !by_code; code++) {
       int tried = code < 0 ? fast.separating : code;
-      by_code = precision == POLY_PRECISION_DOUBLE ? poly_overlap_still_separated_d(&view_d, &a, &view_d, &b, tried)
-                                                   : poly_overlap_still_separated_f(&view_f, &a, &view_f, &b, tried);
+      by_code = precision == POLY_PRECISION_DOUBLE ? poly_overlap_still_separated_d(&view_d, &a, &view_d, &b, tried, &gap)
+                                                   : poly_overlap_still_separated_f(&view_f, &a, &view_f, &b, tried, &gap);
     }
     hinted += by_code;
     parted |= by_code;
     if (fast.separating >= 0) {
       codes_given++;
       codes_holding += precision == POLY_PRECISION_DOUBLE
-                           ? poly_overlap_still_separated_d(&view_d, &a, &view_d, &b, fast.separating)
-                           : poly_overlap_still_separated_f(&view_f, &a, &view_f, &b, fast.separating);
+                           ? poly_overlap_still_separated_d(&view_d, &a, &view_d, &b, fast.separating, &gap)
+                           : poly_overlap_still_separated_f(&view_f, &a, &view_f, &b, fast.separating, &gap);
     }
     if (parted) {
       filtered++;
