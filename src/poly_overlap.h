@@ -123,6 +123,13 @@ typedef struct poly_crossing_cache {
   int recheck_count;
   int last_reached;                /* the watched pairs reached at the last evaluation from the cache */
   int recheck_skips, recheck_backoff, recheck_wait; /* evaluations the last margins spared; rechecks to wait */
+  /* The chords of the crossings as the first replay after the search paired their ends (group_chord_ends): the
+   * same for every replay of that search (the crossings, their order along each edge and their directions are
+   * what the certificate holds), kept so that the later replays need not pair them again; -1 until then, or when
+   * they do not fit. Each from record chord_from to record chord_to, on A's triangle chord_a and B's chord_b. */
+  int num_chords;
+  unsigned short chord_a[POLY_CACHE_RECORDS], chord_b[POLY_CACHE_RECORDS];
+  unsigned char chord_from[POLY_CACHE_RECORDS], chord_to[POLY_CACHE_RECORDS];
 } poly_crossing_cache;
 
 #define POLY_OVERLAP_DECLARE(REAL, SUFFIX)                                                            \

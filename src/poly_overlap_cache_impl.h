@@ -628,16 +628,18 @@ POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va,
       else ws->apex_a[3 * a->edge_triangles[2 * e + j]] = POLY_NO_APEX;
     }
   }
+  const int chords_kept = cache->num_chords >= 0;
   int num_ends = 0;
   for (int r = 0; r < num_records; r++) {
     const int e = ws->record_edge[r], t = ws->record_triangle[r];
     if (r < records_b) {
       POLY_FN(cache_facet_of_b)(b, rotation, t, ws);
+      if (chords_kept) continue;
       num_ends = POLY_FN(cache_add_end)(ws->kept_list_a, num_ends, a->edge_triangles[2 * e]);
       num_ends = POLY_FN(cache_add_end)(ws->kept_list_a, num_ends, a->edge_triangles[2 * e + 1]);
     } else {
       ws->apex_a[3 * t] = POLY_NO_APEX;
-      num_ends = POLY_FN(cache_add_end)(ws->kept_list_a, num_ends, t);
+      if (!chords_kept) num_ends = POLY_FN(cache_add_end)(ws->kept_list_a, num_ends, t);
     }
   }
   POLY_FN(accumulator) acc = out->acc;
@@ -645,8 +647,14 @@ POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va,
                             &num_points);
   POLY_FN(run_inside_parts)(b, vb, ws->inside_b, runs_b, num_runs_b, ws->normals_b, ws->apex_b, 1, NULL, ws, &acc,
                             &num_points);
-  POLY_FN(group_chord_ends)(a, b, records_b, num_records, ws->kept_list_a, num_ends, 0, ws);
-  POLY_FN(add_chords)(a, va, b, vb, records_b, ws->kept_list_a, num_ends, ws, &acc);
+  if (chords_kept) {
+    for (int c = 0; c < cache->num_chords; c++)
+      POLY_FN(add_chord)(a, va, b, vb, records_b, cache->chord_a[c], cache->chord_b[c], cache->chord_from[c],
+                         cache->chord_to[c], ws, &acc);
+  } else {
+    POLY_FN(group_chord_ends)(a, b, records_b, num_records, ws->kept_list_a, num_ends, 0, ws);
+    POLY_FN(add_chords)(a, va, b, vb, records_b, ws->kept_list_a, num_ends, ws, &acc, cache);
+  }
   out->acc = acc;
   out->num_points = num_points;
   out->num_inconsistent = 0;
@@ -698,6 +706,7 @@ POLY_INLINE void POLY_FN(cache_after_search)(const POLY_FN(shape_view) *a, const
   if (known && cache->margin > 0.0) cache->backoff = cache->hits > 1 ? 0 : (cache->backoff ? 2 * cache->backoff : 1);
   if (cache->backoff > 64) cache->backoff = 64;
   cache->hits = 0;
+  cache->num_chords = -1; /* the first replay pairs the chords' ends anew */
   ws->cache_searches++;
   cache->shape_a = (const void *)a->vertices;
   cache->shape_b = (const void *)b->vertices;

@@ -230,7 +230,7 @@ POLY_INLINE int POLY_FN(convex_pass)(const POLY_FN(shape_view) *a, const R *va, 
                             acc, num_points);
   POLY_FN(run_inside_parts)(b, vb, ws->inside_b, runs_b, num_runs_b, ws->normals_b, ws->apex_b, 1, b->face_of, ws,
                             acc, num_points);
-  POLY_FN(add_chords)(a, va, b, vb, records_b, faces_a, num_faces_a, ws, acc);
+  POLY_FN(add_chords)(a, va, b, vb, records_b, faces_a, num_faces_a, ws, acc, NULL);
   return 0;
 }
 

@@ -459,41 +459,57 @@ POLY_INLINE int POLY_FN(group_chord_ends)(const POLY_FN(shape_view) *a, const PO
   return odd;
 }
 
+/* One chord: from the crossing of record `from` to that of record `to` (A's
+ * records before records_b, B's after), added to A's triangle t and, reversed,
+ * to B's triangle s. */
+POLY_INLINE void POLY_FN(add_chord)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
+                                    const R *vb, int records_b, int t, int s, int from, int to,
+                                    POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc)
+{
+  R first[3], second[3];
+  if (from >= records_b) POLY_FN(record_point)(b, vb, ws, from, first);
+  else POLY_FN(record_point)(a, va, ws, from, first);
+  if (to >= records_b) POLY_FN(record_point)(b, vb, ws, to, second);
+  else POLY_FN(record_point)(a, va, ws, to, second);
+  POLY_FN(add_segment)(acc, ws->apex_a + 3 * t, a->face_normals + 3 * t, first, second, 1);
+  POLY_FN(add_segment)(acc, ws->apex_b + 3 * s, ws->normals_b + 3 * s, second, first, 0);
+}
+
 /* The chords of the crossing triangle pairs grouped by group_chord_ends (the
- * pairs with exactly two ends), each added to its triangle of A and, reversed,
- * to its triangle of B. */
+ * pairs with exactly two ends), each added by add_chord. `keep`: a crossing
+ * cache that keeps them, in this order, for its later replays (its num_chords
+ * left -1 when they do not fit), or NULL. */
 POLY_INLINE void POLY_FN(add_chords)(const POLY_FN(shape_view) *a, const R *va, const POLY_FN(shape_view) *b,
                                      const R *vb, int records_b, const int *list_a, int num_a,
-                                     POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc)
+                                     POLY_FN(overlap_workspace) *ws, POLY_FN(accumulator) *acc,
+                                     poly_crossing_cache *keep)
 {
   const int *bucket = ws->chord_buckets, *ends = ws->chord_ends;
+  int kept = 0, fits = 1;
   for (int m = 0, begin = 0; m < num_a; m++) {
     int t = list_a[m], stop = bucket[t];
     for (int i = begin; i < stop;) {
       int j = i + 1;
       while (j < stop && ends[2 * j] == ends[2 * i]) j++;
       if (j - i == 2) {
-        int s = ends[2 * i];
-        R points[2][3];
-        for (int k = 0; k < 2; k++) {
-          int r = ends[2 * (i + k) + 1] >> 1;
-          if (r >= records_b)
-            POLY_FN(record_point)(b, vb, ws, r, points[k]);
-          else
-            POLY_FN(record_point)(a, va, ws, r, points[k]);
+        const int s = ends[2 * i], starts = ends[2 * i + 1] & 1;
+        const int from = ends[2 * (i + !starts) + 1] >> 1, to = ends[2 * (i + starts) + 1] >> 1;
+        POLY_FN(add_chord)(a, va, b, vb, records_b, t, s, from, to, ws, acc);
+        if (keep && kept < POLY_CACHE_RECORDS && t <= 0xffff && s <= 0xffff && from <= 0xff && to <= 0xff) {
+          keep->chord_a[kept] = (unsigned short)t;
+          keep->chord_b[kept] = (unsigned short)s;
+          keep->chord_from[kept] = (unsigned char)from;
+          keep->chord_to[kept] = (unsigned char)to;
+        } else {
+          fits = 0;
         }
-        const R *first = points[0], *second = points[1];
-        if (!(ends[2 * i + 1] & 1)) {
-          first = points[1];
-          second = points[0];
-        }
-        POLY_FN(add_segment)(acc, ws->apex_a + 3 * t, a->face_normals + 3 * t, first, second, 1);
-        POLY_FN(add_segment)(acc, ws->apex_b + 3 * s, ws->normals_b + 3 * s, second, first, 0);
+        kept++;
       }
       i = j;
     }
     begin = stop;
   }
+  if (keep) keep->num_chords = fits ? kept : -1;
 }
 
 #include "poly_overlap_cache_impl.h"
@@ -549,7 +565,7 @@ POLY_INLINE int POLY_FN(records_path)(const POLY_FN(shape_view) *a, const R *va,
   POLY_FN(run_inside_parts)(b, vb, ws->inside_b, runs_b, num_runs_b, ws->normals_b, ws->apex_b, 1, NULL, ws, &acc,
                             &num_points);
   POLY_FN(group_chord_ends)(a, b, records_b, num_records, ws->kept_list_a, f->num_kept_a, 0, ws);
-  POLY_FN(add_chords)(a, va, b, vb, records_b, ws->kept_list_a, f->num_kept_a, ws, &acc);
+  POLY_FN(add_chords)(a, va, b, vb, records_b, ws->kept_list_a, f->num_kept_a, ws, &acc, NULL);
   out->acc = acc;
   out->num_points = num_points;
   out->num_inconsistent = inconsistent;
