@@ -17,19 +17,10 @@
 
 #include <math.h>
 
-#if defined(__CUDACC__)
-#define POLY_INLINE static inline __host__ __device__
-#else
-#define POLY_INLINE static inline
-#endif
+#include "poly_inline.h"
 
 /* The per-particle integrator kernels below are small and called once per particle
- * and step; inlined, their loops run without call overhead or spills. */
-#if defined(__GNUC__) && !defined(__CUDACC__)
-#define POLY_HOT_INLINE static inline __attribute__((always_inline))
-#else
-#define POLY_HOT_INLINE POLY_INLINE
-#endif
+ * and step: POLY_HOT_INLINE, so that their loops run without call overhead or spills. */
 
 POLY_INLINE void poly_quat_normalize(double q[4])
 {
@@ -89,11 +80,8 @@ POLY_INLINE void poly_cross3_d(const double a[3], const double b[3], double out[
  * tetrahedron (0, a, b, c) of signed volume V = v6/6 has
  * int x x^T dV = V/20 (a a^T + b b^T + c c^T + s s^T), s = a + b + c:
  * this adds v6 times the bracket (divide the sum by 120). */
-#if defined(__GNUC__) && !defined(__CUDACC__)
 /* Inlined by order: GCC kept it a call from add_segment, 5 % of a settled pile's time (the replays' sums). */
-__attribute__((always_inline))
-#endif
-POLY_INLINE void poly_second_moment_add(double m[6], double v6, const double a[3], const double b[3], const double c[3])
+POLY_HOT_INLINE void poly_second_moment_add(double m[6], double v6, const double a[3], const double b[3], const double c[3])
 {
   double s[3] = {a[0] + b[0] + c[0], a[1] + b[1] + c[1], a[2] + b[2] + c[2]};
   /* Written out: the contact loop adds one per boundary segment, and the indexed loop did not unroll. */
