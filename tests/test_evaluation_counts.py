@@ -1,8 +1,8 @@
 """compute pair/polyhedral/local's vector 4-8: what the pair loop did with its neighbour pairs (pairs in reach of
-each other; skipped by the plane that parted them before; evaluated into a contact; found apart by the slab or a
-parting plane; found apart after the whole path). Two cubes, tilted so that no faces are flush, approach, collide
-and part again, printed every step: the counts add up exactly, the contacts are the per-step contacts summed, and
-the parted pair is skipped by its plane on later steps."""
+each other; skipped as still apart, within the gap found before or behind the plane that parted them; evaluated
+into a contact; found apart by the slab or a parting plane; found apart after the whole path). Two cubes, tilted so
+that no faces are flush, approach, collide and part again, printed every step: the counts add up exactly, the
+contacts are the per-step contacts summed, and the parted pair is skipped on later steps."""
 import decks
 
 EDGE = 0.01

@@ -448,8 +448,9 @@ def evaluation_breakdown(log_text):
                 return None
             share = lambda n: f"{100 * n / candidates:.1f} %"
             return (f"the rocks' neighbour pairs in reach of each other, summed over the steps: {candidates:.4g}; "
-                    f"skipped by the plane that parted them before {share(hinted)}, evaluated into a contact "
-                    f"{share(contacts)}, found apart by the slab or a parting plane {share(parted)}, found apart "
+                    f"skipped as still apart (within their gap, or behind the plane that parted them) {share(hinted)}, "
+                    f"evaluated into a contact {share(contacts)}, found apart by the slab or a parting plane "
+                    f"{share(parted)}, found apart "
                     f"by the whole path (near misses) {share(misses)}; from the crossing cache "
                     f"{100 * cached / max(contacts, 1):.1f} % of the contacts and "
                     f"{100 * cached_misses / max(misses, 1):.1f} % of the near misses "
