@@ -1,7 +1,9 @@
 /* CPU cost of fix wall/polyhedral's mesh narrow phase: (particle, prism) pieces per second on one core.
  *
- *   bash tools/bench_mesh_pieces.sh [particles] [repeats]     (builds this file and runs it)
- *   bench_mesh_pieces SHAPES_DIR [particles] [repeats]
+ *   bash tools/bench_mesh_pieces.sh [particles] [repeats] [shape]     (builds this file and runs it)
+ *   bench_mesh_pieces SHAPES_DIR [particles] [repeats] [shape]
+ *
+ * `shape`: one file of the list (e.g. rock_40.obj) alone, for a profile of its pieces.
  *
  * The scene of tests/unit/gpu_wall_agreement.cpp, so the figures compare with doc/benchmarks.md's
  * "Mesh walls on the GPU" CPU column: per shape (scale 0.01), a 12 x 12 grid of 6 bounding radii with a
@@ -74,7 +76,11 @@ int main(int argc, char **argv)
   int num_particles = argc > 2 ? atoi(argv[2]) : 2000, repeats = argc > 3 ? atoi(argv[3]) : 5;
   printf("| shape | pieces | touching | pieces/s (double, one core) | prism (us) | its clip faces (us) |\n"
          "|---|---:|---:|---:|---:|---:|\n");
+  const char *only = argc > 4 ? argv[4] : NULL;
+  int found = 0;
   for (int s = 0; s < NUM_SHAPES; s++) {
+    if (only && strcmp(only, SHAPE_FILES[s]) != 0) continue;
+    found = 1;
     char path[1024], message[512];
     snprintf(path, sizeof path, "%s/%s", argv[1], SHAPE_FILES[s]);
     poly_shape shape;
@@ -183,6 +189,10 @@ int main(int argc, char **argv)
     poly_mesh_shell_free(&shell);
     poly_shape_free_wall_pieces(&wall_pieces);
     poly_shape_free(&shape);
+  }
+  if (only && !found) {
+    fprintf(stderr, "bench_mesh_pieces: no shape '%s' in its list\n", only);
+    return 2;
   }
   return 0;
 }
