@@ -620,7 +620,8 @@ POLY_INLINE int POLY_FN(cache_replay)(const POLY_FN(shape_view) *a, const R *va,
     POLY_FN(add_point)(ws, &num_points, (of_b ? vb : va) + 3 * v);
   }
   /* Facets without apexes and B's normals in A's frame, for the facets the sums touch (the cached edges'
-   * triangles and the crossed triangles), and the triangles of A that end chords, ascending. */
+   * triangles and the crossed triangles), and, until the chords are kept, the triangles of A that end chords,
+   * ascending. */
   for (int n = 0; n < cache->num_edges; n++) {
     const int of_b = n >= cache->edges_b, e = cache->inside_edge[n];
     for (int j = 0; j < 2; j++) {
