@@ -10,9 +10,9 @@ step).
   supporting triangle moved by the gap of poly_overlap_still_separated, the pair style's hint, instead). At three
   times the gap they must find some.
 - A pile of 80 rock_40 (examples/bench_multisphere/in.pile_poly, fewer particles and steps), with `skip_apart on`
-  and `off`, on one rank and on two (ghost particles' travel), and in a box periodic in x and y on two ranks
-  (ghost images across the boundary): the same thermo output to the digits printed and the same contacts, with
-  most evaluations of apart pairs skipped.
+  and `off`, on one rank and on two (ghost particles' travel), in a box periodic in x and y on two ranks (ghost
+  images across the boundary), and in mixed precision: the same thermo output to the digits printed and the same
+  contacts, with most evaluations of apart pairs skipped.
 
 Run with Debian's python3:  /usr/bin/python3 -m pytest tests/test_skip_apart.py -q
 """
@@ -74,12 +74,12 @@ def test_pairs_moved_three_times_their_gap_do(driver, pair):
     assert counts["overlapping_unfiltered"] == counts["overlapping"], counts
 
 
-def pile_deck(skip, periodic):
+def pile_deck(skip, periodic, precision):
     text = open(os.path.join(ROOT, "examples", "bench_multisphere", "in.pile_poly")).read()
     for old in ("pair_style      polyhedral/volumetric\n", "boundary        f f f\n"):
         assert old in text
     text = text.replace("pair_style      polyhedral/volumetric\n",
-                        f"pair_style      polyhedral/volumetric skip_apart {skip}\n")
+                        f"pair_style      polyhedral/volumetric skip_apart {skip} precision {precision}\n")
     if periodic:
         # Periodic in x and y: the side walls go, the box's sides are the period.
         text = text.replace("boundary        f f f\n", "boundary        p p f\n")
@@ -90,20 +90,22 @@ def pile_deck(skip, periodic):
                    "thermo_modify format float %.15g\nrun 1\n")
 
 
-@pytest.mark.parametrize("nprocs,periodic", [(1, False), (2, False), (2, True)])
-def test_a_pile_of_rocks_runs_the_same_with_and_without_the_skip(run_deck, tmp_path, nprocs, periodic):
-    variables = {"SHAPE": os.path.join(SHAPES, "rock_40.obj"), "N": 80, "settle": 15000, "steps": 5000,
+@pytest.mark.parametrize("nprocs,periodic,precision", [(1, False, "double"), (2, False, "double"),
+                                                        (2, True, "double"), (1, False, "mixed")])
+def test_a_pile_of_rocks_runs_the_same_with_and_without_the_skip(run_deck, tmp_path, nprocs, periodic, precision):
+    variables = {"SHAPE": os.path.join(SHAPES, "rock_40.obj"), "N": 80, "settle": 20000, "steps": 10000,
                  "every": 500, "ZFILL": 0.08}
     outputs, counts = {}, {}
     for skip in ("on", "off"):
-        result = run_deck(pile_deck(skip, periodic), nprocs=nprocs, variables=variables, workdir=tmp_path / skip)
+        result = run_deck(pile_deck(skip, periodic, precision), nprocs=nprocs, variables=variables,
+                          workdir=tmp_path / skip)
         assert result.returncode == 0, result.output[-3000:]
         outputs[skip] = result.thermo("Step", "v_ke", "v_xmin", "v_xmax", "v_ymin", "v_ymax", "v_zmin", "v_zmax")
         table = result.thermo("Step", "c_ev[4]", "c_ev[5]", "c_ev[6]", "c_ev[7]", "c_ev[8]")
         counts[skip] = {name: table[f"c_ev[{k}]"][-1]
                         for k, name in ((4, "candidates"), (5, "skipped"), (6, "contacts"), (7, "parted"),
                                         (8, "near misses"))}
-    print(f"\n{nprocs} rank(s){', periodic' if periodic else ''}: on {counts['on']}, off {counts['off']}")
+    print(f"\n{nprocs} rank(s){', periodic' if periodic else ''}, {precision}: on {counts['on']}, off {counts['off']}")
     assert len(outputs["on"]["Step"]) > 8
     assert outputs["on"] == outputs["off"]
     for name in ("candidates", "contacts"):
