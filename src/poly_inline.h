@@ -10,12 +10,15 @@
 #endif
 #endif
 
-/* POLY_HOT_INLINE: a small function of the CPU's hot loops inlined by order where GCC would keep it a call (the GPU
- * build takes it as POLY_INLINE). */
+/* POLY_HOT_INLINE: a small function of the CPU's hot loops inlined by order where GCC would keep it a call;
+ * POLY_CPU_OUT_OF_LINE: a rare case of one kept out of line, so that what is inlined stays small (the GPU build
+ * takes both as POLY_INLINE). */
 #if defined(__GNUC__) && !defined(__CUDACC__)
 #define POLY_HOT_INLINE static inline __attribute__((always_inline))
+#define POLY_CPU_OUT_OF_LINE static __attribute__((noinline, cold, unused))
 #else
 #define POLY_HOT_INLINE POLY_INLINE
+#define POLY_CPU_OUT_OF_LINE POLY_INLINE
 #endif
 
 #endif
