@@ -19,7 +19,21 @@ POLY_HOT_INLINE R POLY_FN(plane_side)(const R *x, const R *vertices, const int *
   R side = POLY_FN(dot)(plane, offset);
   R bound = (R)32 * POLY_FN(epsilon)() * plane[3] * POLY_FN(norm1)(offset);
   if (side > bound || -side > bound) return side;
+#ifdef __CUDACC__
+  /* The GPU's kernels as they were measured with this written out in one function (rock_70's pairs: 3 % faster
+   * in mixed precision, 5 % slower in double than through plane_side_exact). */
+  double a[3], b[3], c[3], d[3];
+  POLY_FN(to_double)(c0, a);
+  POLY_FN(to_double)(vertices + 3 * tri[1], b);
+  POLY_FN(to_double)(vertices + 3 * tri[2], c);
+  POLY_FN(to_double)(x, d);
+  double exact = -poly_overlap_orient(a, b, c, d);
+  if (exact == 0.0) return (R)0;
+  if ((exact > 0) == (side > 0) && side != 0) return side;
+  return exact > 0 ? (R)1e-30 : (R)-1e-30;
+#else
   return POLY_FN(plane_side_exact)(x, vertices, tri, side);
+#endif
 }
 
 /* plane_side where its error bound cannot prove the sign (rare): the exact orientation. */
