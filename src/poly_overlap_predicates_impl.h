@@ -4,13 +4,23 @@
  * return is exact, and an exact zero is decided by the symbolic perturbation
  * of B (see poly_overlap.h). */
 
-POLY_CPU_OUT_OF_LINE R POLY_FN(plane_side_exact)(const R *x, const R *vertices, const int *tri, R side);
+/* The exact orientation of the four points of R, -poly_overlap_orient(x0, x1, x2, x): out of line on the CPU, so
+ * that plane_side, which needs it rarely, stays small enough to inline. */
+POLY_CPU_OUT_OF_LINE double POLY_FN(exact_side)(const R *x0, const R *x1, const R *x2, const R *x)
+{
+  double a[3], b[3], c[3], d[3];
+  POLY_FN(to_double)(x0, a);
+  POLY_FN(to_double)(x1, b);
+  POLY_FN(to_double)(x2, c);
+  POLY_FN(to_double)(x, d);
+  return -poly_overlap_orient(a, b, c, d);
+}
 
 /* Which side of the plane of `tri` the point x is on: (v1-v0)x(v2-v0).(x-v0),
  * from the precomputed `plane` when the error bound proves its sign, else with
  * the exact sign of poly_orient (on the scalar-type inputs, so single
- * precision is exact too). Inlined by order into the crossing search, the
- * exact case kept out of line: as a call it cost a fifth more in a flow. */
+ * precision is exact too). Inlined by order into the crossing search (as a
+ * call it cost a fifth more in a flow). */
 POLY_HOT_INLINE R POLY_FN(plane_side)(const R *x, const R *vertices, const int *tri, const R *plane)
 {
   const R *c0 = vertices + 3 * tri[0];
@@ -19,33 +29,7 @@ POLY_HOT_INLINE R POLY_FN(plane_side)(const R *x, const R *vertices, const int *
   R side = POLY_FN(dot)(plane, offset);
   R bound = (R)32 * POLY_FN(epsilon)() * plane[3] * POLY_FN(norm1)(offset);
   if (side > bound || -side > bound) return side;
-#ifdef __CUDACC__
-  /* The GPU's kernels as they were measured with this written out in one function (rock_70's pairs: 3 % faster
-   * in mixed precision, 5 % slower in double than through plane_side_exact). */
-  double a[3], b[3], c[3], d[3];
-  POLY_FN(to_double)(c0, a);
-  POLY_FN(to_double)(vertices + 3 * tri[1], b);
-  POLY_FN(to_double)(vertices + 3 * tri[2], c);
-  POLY_FN(to_double)(x, d);
-  double exact = -poly_overlap_orient(a, b, c, d);
-  if (exact == 0.0) return (R)0;
-  if ((exact > 0) == (side > 0) && side != 0) return side;
-  return exact > 0 ? (R)1e-30 : (R)-1e-30;
-#else
-  return POLY_FN(plane_side_exact)(x, vertices, tri, side);
-#endif
-}
-
-/* plane_side where its error bound cannot prove the sign (rare): the exact orientation. */
-POLY_CPU_OUT_OF_LINE R POLY_FN(plane_side_exact)(const R *x, const R *vertices, const int *tri, R side)
-{
-  const R *c0 = vertices + 3 * tri[0];
-  double a[3], b[3], c[3], d[3];
-  POLY_FN(to_double)(c0, a);
-  POLY_FN(to_double)(vertices + 3 * tri[1], b);
-  POLY_FN(to_double)(vertices + 3 * tri[2], c);
-  POLY_FN(to_double)(x, d);
-  double exact = -poly_overlap_orient(a, b, c, d);
+  double exact = POLY_FN(exact_side)(c0, vertices + 3 * tri[1], vertices + 3 * tri[2], x);
   if (exact == 0.0) return (R)0;
   if ((exact > 0) == (side > 0) && side != 0) return side;
   return exact > 0 ? (R)1e-30 : (R)-1e-30;
