@@ -30,7 +30,7 @@ static const double kHertzFraction = 0.1;
 
 PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
     : Pair(lmp), computeflag(0), listgranhistory(NULL), tangential_history(true), damping(true),
-      rocking_damping(true), cohesion(false), crossing_cache(true), skip_apart(true),
+      rocking_damping(true), cohesion(false), crossing_cache(true), skip_apart(true), parting_search(true),
 #ifdef POLY_SINGLE_PRECISION
       precision(POLY_PRECISION_SINGLE),
 #else
@@ -102,6 +102,9 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
     } else if (strcmp(key, "skip_apart") == 0) {
       ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
       skip_apart = strcmp(value, "on") == 0;
+    } else if (strcmp(key, "parting_search") == 0) {
+      ok = strcmp(value, "on") == 0 || strcmp(value, "off") == 0;
+      parting_search = strcmp(value, "on") == 0;
     } else if (strcmp(key, "precision") == 0) {
       ok = strcmp(value, "double") == 0 || strcmp(value, "single") == 0 || strcmp(value, "mixed") == 0;
       precision = strcmp(value, "single") == 0  ? POLY_PRECISION_SINGLE
@@ -111,7 +114,7 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
       char message[256];
       snprintf(message, sizeof message,
                "Pair polyhedral/volumetric: unknown keyword '%s' (tangential, damping, rocking_damping, precision, "
-               "crossing_cache, skip_apart; LIGGGHTS' model, cohesion, rolling_friction, surface)",
+               "crossing_cache, skip_apart, parting_search; LIGGGHTS' model, cohesion, rolling_friction, surface)",
                key);
       error->all(FLERR, message);
     }
@@ -667,6 +670,9 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
             if (index < 0) index = new_crossing_cache();
             cache = &crossing_cache_pool[index];
           }
+          // A pair not touching at its last evaluation is likely apart if the filters do not part it: a parting
+          // plane is sought for it first (a touching one would pay that search for nothing).
+          workspace_d.seek_parting = workspace_f.seek_parting = parting_search && (touch ? !touch[jj] : 1);
           const long hits = workspace_d.cache_hits + workspace_f.cache_hits;
           overlap(i, j, &geometry, cache);
           const bool from_cache = workspace_d.cache_hits + workspace_f.cache_hits > hits;

@@ -196,6 +196,9 @@ typedef struct poly_crossing_cache {
     double origin[3];                  /* of the local frame of the points, in A's body frame */     \
     poly_crossing_cache *crossing_cache; /* the pair's (see poly_crossing_cache), or NULL (default) */ \
     int cache_pass;                    /* set by overlap_local: the pass that may use or fill it */     \
+    int seek_parting;                  /* 1: a pair no filter parts is searched for a parting plane first \
+                                          (poly_overlap_parting_impl.h; the pair style's pairs not touching \
+                                          at their last evaluation); 0 (default): not */                   \
     long cache_hits, cache_searches, cache_certificates; /* evaluations that took the cached crossings; that \
                                           searched with a cache given; certificates made */           \
   } poly_overlap_workspace##SUFFIX;

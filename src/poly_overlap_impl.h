@@ -228,6 +228,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->want_second_moment = 0;
   ws->crossing_cache = NULL;
   ws->cache_pass = 0;
+  ws->seek_parting = 0;
   ws->cache_hits = ws->cache_searches = ws->cache_certificates = 0;
   return bytes;
 }
@@ -659,6 +660,9 @@ typedef struct POLY_FN(filtered) {
 
 #include "poly_overlap_reference_impl.h"
 #include "poly_overlap_records_impl.h"
+#if POLY_OVERLAP_RECORDS
+#include "poly_overlap_parting_impl.h"
+#endif
 #include "poly_overlap_convex_impl.h"
 #include "poly_overlap_blocks_impl.h"
 
@@ -706,6 +710,8 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
       separated = POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b,
                                              &out->separating, &separation);
   }
+  if (!separated && use_filter && ws->seek_parting && ws->cache_pass && !support_later)
+    separated = POLY_FN(parting_search)(a, b, rotation, translation, extreme_a, extreme_b, &separation);
 #endif
   if (separated && use_filter) {
     out->filtered_out = 1;
@@ -759,8 +765,10 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
     return;
   }
   if (support_later &&
-      POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b, &out->separating,
-                                 &separation)) {
+      (POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b, &out->separating,
+                                  &separation) ||
+       (ws->seek_parting &&
+        POLY_FN(parting_search)(a, b, rotation, translation, extreme_a, extreme_b, &separation)))) {
     out->filtered_out = 1;
     out->gap = POLY_FN(proved_gap)(a, b, separation);
     ws->capacity_points = capacity_points;

@@ -40,6 +40,7 @@ def test_scene_needs_only_the_materials_its_model_uses(run_deck):
     ("pair_style polyhedral/volumetric damping\npair_coeff * *\n", "keyword 'damping' needs a value"),
     ("pair_style polyhedral/volumetric precision quad\npair_coeff * *\n", "invalid value 'quad' for 'precision'"),
     ("pair_style polyhedral/volumetric crossing_cache yes\npair_coeff * *\n", "invalid value 'yes' for 'crossing_cache'"),
+    ("pair_style polyhedral/volumetric parting_search 1\npair_coeff * *\n", "invalid value '1' for 'parting_search'"),
     ("pair_style polyhedral/volumetric\npair_coeff 1 1 0.5\n", "use 'pair_coeff * *'"),
 ])
 def test_bad_pair_arguments(run_deck, pair, expected):

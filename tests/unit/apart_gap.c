@@ -9,10 +9,14 @@
  * Every other pair parted by a supporting triangle takes the gap of poly_overlap_still_separated (the pair style's
  * hint at a later step) instead.
  *
- *   apart_gap A_FILE A_SCALE B_FILE B_SCALE CASES double|single|mixed FACTOR [far]
+ *   apart_gap A_FILE A_SCALE B_FILE B_SCALE CASES double|single|mixed FACTOR [far] [seek]
  *
- * `far`: the pair 1e3 sizes from the origin. Prints the pairs found apart with a gap, those moved by the hint's gap,
- * the poses tested, and those with a volume by either evaluation. */
+ * `far`: the pair 1e3 sizes from the origin. `seek`: the evaluations search a parting plane where no filter parts
+ * the pair (ws->seek_parting, poly_overlap_parting_impl.h), as the pair style does for pairs not touching before.
+ * Prints the pairs found apart with a gap, those moved by the hint's gap, the poses tested, and those with a volume
+ * by either evaluation; with `seek` also the pairs only the search parted (`by_search`: apart, found so by no
+ * filter without it) and of them those whose evaluation without any filter finds a volume where they are
+ * (`by_search_overlapping`, which must be 0). */
 #define _POSIX_C_SOURCE 199309L
 #include <string.h>
 
@@ -62,7 +66,8 @@ int main(int argc, char **argv)
   precision = !strcmp(argv[6], "single") ? POLY_PRECISION_SINGLE
                                          : (!strcmp(argv[6], "mixed") ? POLY_PRECISION_MIXED : POLY_PRECISION_DOUBLE);
   const double factor = atof(argv[7]);
-  const int far = argc > 8 && !strcmp(argv[8], "far");
+  int far = 0, seek = 0;
+  for (int k = 8; k < argc; k++) far |= !strcmp(argv[k], "far"), seek |= !strcmp(argv[k], "seek");
   da = poly_shape_view_of(&sa), db = poly_shape_view_of(&sb);
   if (poly_shape_view_make_f(&sa, &fa) || poly_shape_view_make_f(&sb, &fb)) return 1;
   int nv = sa.num_vertices > sb.num_vertices ? sa.num_vertices : sb.num_vertices;
@@ -74,9 +79,10 @@ int main(int argc, char **argv)
     return 1;
   bare_d.use_filter = bare_d.use_clip = bare_d.use_convex = 0;
   bare_f.use_filter = bare_f.use_clip = bare_f.use_convex = 0;
+  wd.seek_parting = wf.seek_parting = seek;
   const double ra = sa.bounding_radius, rb = sb.bounding_radius, reach = ra + rb;
   const double fractions[4] = {0.5, 0.9, 0.99, 0.999};
-  long apart = 0, hinted = 0, tested = 0, found = 0, found_bare = 0;
+  long apart = 0, hinted = 0, tested = 0, found = 0, found_bare = 0, by_search = 0, by_search_overlapping = 0;
   for (int c = 0; c < cases; c++) {
     poly_pose a, b;
     double offset[3] = {0.0, 0.0, 0.0};
@@ -94,6 +100,20 @@ int main(int argc, char **argv)
     evaluate(&a, &b, &wd, &wf, &r);
     if (!r.filtered_out || !(r.gap > 0.0)) continue;
     apart++;
+    if (seek) {
+      /* Parted by the search alone: the filters without it leave the pair to the general path. */
+      poly_overlap_result unsought, bare;
+      wd.seek_parting = wf.seek_parting = 0;
+      evaluate(&a, &b, &wd, &wf, &unsought);
+      wd.seek_parting = wf.seek_parting = 1;
+      if (!unsought.filtered_out) {
+        by_search++;
+        memset(&bare, 0, sizeof bare);
+        if (precision == POLY_PRECISION_DOUBLE) poly_overlap_d(&da, &a, &db, &b, &bare_d, &bare);
+        else poly_overlap_f(&fa, &a, &fb, &b, &bare_f, &bare);
+        by_search_overlapping += bare.volume > 0.0 || unsought.volume > 0.0;
+      }
+    }
     /* Every other pair parted by a supporting triangle moves by the gap the pair style's hint gives instead. */
     double gap = r.gap;
     if (r.separating >= 0 && c % 2 && precision != POLY_PRECISION_MIXED) {
@@ -126,7 +146,8 @@ int main(int argc, char **argv)
       found_bare += bare.volume > 0.0;
     }
   }
-  printf("apart %ld by_hint %ld tested %ld overlapping %ld overlapping_unfiltered %ld\n", apart, hinted, tested, found,
-         found_bare);
+  printf("apart %ld by_hint %ld tested %ld overlapping %ld overlapping_unfiltered %ld by_search %ld "
+         "by_search_overlapping %ld\n",
+         apart, hinted, tested, found, found_bare, by_search, by_search_overlapping);
   return 0;
 }
