@@ -670,9 +670,12 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
             if (index < 0) index = new_crossing_cache();
             cache = &crossing_cache_pool[index];
           }
-          // A pair not touching at its last evaluation is likely apart if the filters do not part it: a parting
-          // plane is sought for it first (a touching one would pay that search for nothing).
-          workspace_d.seek_parting = workspace_f.seek_parting = parting_search && (touch ? !touch[jj] : 1);
+          // The filters after the slab by what the pair was at its last evaluation: one touching then is likely
+          // touching still, and pays no supporting triangles; one apart then (or new) is likely apart where the
+          // filters do not part it, and is searched for a parting plane (parting_search).
+          const int last = !parting_search ? POLY_LAST_UNKNOWN
+                                           : (touch && touch[jj] ? POLY_LAST_TOUCHING : POLY_LAST_APART);
+          workspace_d.last_evaluation = workspace_f.last_evaluation = last;
           const long hits = workspace_d.cache_hits + workspace_f.cache_hits;
           overlap(i, j, &geometry, cache);
           const bool from_cache = workspace_d.cache_hits + workspace_f.cache_hits > hits;

@@ -100,8 +100,8 @@ class PairPolyhedralVolumetric : public Pair {
   bool tangential_history, damping, rocking_damping, cohesion;
   bool crossing_cache;  // `crossing_cache on` (default): contacts reuse their crossings while certified
   bool skip_apart;      // `skip_apart on` (default): pairs found apart wait until they may have moved their gap
-  bool parting_search;  // `parting_search on` (default): pairs not touching before, parted by no filter, are searched
-                        // for a parting plane (poly_overlap_parting_impl.h) before the general path
+  bool parting_search;  // `parting_search on` (default): the filters by a pair's last evaluation (touching: no
+                        // supporting triangles; apart: also the parting search, poly_overlap_parting_impl.h)
   int precision;  // poly_precision
   std::vector<class Compute *> recorders;
   bool recording;               // on this step

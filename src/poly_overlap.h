@@ -132,6 +132,8 @@ typedef struct poly_crossing_cache {
   unsigned char chord_from[POLY_CACHE_RECORDS], chord_to[POLY_CACHE_RECORDS];
 } poly_crossing_cache;
 
+/* The workspace's last_evaluation: the pair at its last evaluation, as the pair style knows it. */
+enum { POLY_LAST_UNKNOWN = 0, POLY_LAST_TOUCHING = 1, POLY_LAST_APART = 2 };
 #define POLY_OVERLAP_DECLARE(REAL, SUFFIX)                                                            \
   typedef struct poly_shape_view##SUFFIX {                                                           \
     int num_vertices, num_triangles, num_edges;                                                     \
@@ -196,9 +198,10 @@ typedef struct poly_crossing_cache {
     double origin[3];                  /* of the local frame of the points, in A's body frame */     \
     poly_crossing_cache *crossing_cache; /* the pair's (see poly_crossing_cache), or NULL (default) */ \
     int cache_pass;                    /* set by overlap_local: the pass that may use or fill it */     \
-    int seek_parting;                  /* 1: a pair no filter parts is searched for a parting plane first \
-                                          (poly_overlap_parting_impl.h; the pair style's pairs not touching \
-                                          at their last evaluation); 0 (default): not */                   \
+    int last_evaluation;               /* what the caller knows of the pair, which picks the filters tried after \
+                                          the slab: POLY_LAST_UNKNOWN (default) the supporting triangles; \
+                                          POLY_LAST_TOUCHING none (they part few such pairs); POLY_LAST_APART \
+                                          those and the parting search (poly_overlap_parting_impl.h) */ \
     long cache_hits, cache_searches, cache_certificates; /* evaluations that took the cached crossings; that \
                                           searched with a cache given; certificates made */           \
   } poly_overlap_workspace##SUFFIX;

@@ -228,7 +228,7 @@ POLY_INLINE size_t POLY_FN(overlap_workspace_layout)(POLY_FN(overlap_workspace) 
   ws->want_second_moment = 0;
   ws->crossing_cache = NULL;
   ws->cache_pass = 0;
-  ws->seek_parting = 0;
+  ws->last_evaluation = POLY_LAST_UNKNOWN;
   ws->cache_hits = ws->cache_searches = ws->cache_certificates = 0;
   return bytes;
 }
@@ -704,13 +704,14 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
                                   ? POLY_FN(cache_held_motion)(cache, a, b, rotation, translation)
                                   : -1.0;
   int support_later = 0;
-  if (!separated && use_filter && !(a->face_of && b->face_of) && a->support && b->support) {
+  if (!separated && use_filter && !(a->face_of && b->face_of) && a->support && b->support &&
+      ws->last_evaluation != POLY_LAST_TOUCHING) {
     support_later = cache_motion >= 0.0 && (cache->num_records > 0 || cache->num_inside > 0);
     if (!support_later)
       separated = POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b,
                                              &out->separating, &separation);
   }
-  if (!separated && use_filter && ws->seek_parting && ws->cache_pass && !support_later)
+  if (!separated && use_filter && ws->last_evaluation == POLY_LAST_APART && ws->cache_pass && !support_later)
     separated = POLY_FN(parting_search)(a, b, rotation, translation, extreme_a, extreme_b, &separation);
 #endif
   if (separated && use_filter) {
@@ -767,7 +768,7 @@ POLY_INLINE void POLY_FN(overlap_pass)(const POLY_FN(shape_view) *a, const POLY_
   if (support_later &&
       (POLY_FN(support_separated)(a, b, rotation, translation, axis_d, extreme_a, extreme_b, &out->separating,
                                   &separation) ||
-       (ws->seek_parting &&
+       (ws->last_evaluation == POLY_LAST_APART &&
         POLY_FN(parting_search)(a, b, rotation, translation, extreme_a, extreme_b, &separation)))) {
     out->filtered_out = 1;
     out->gap = POLY_FN(proved_gap)(a, b, separation);

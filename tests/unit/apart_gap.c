@@ -12,7 +12,8 @@
  *   apart_gap A_FILE A_SCALE B_FILE B_SCALE CASES double|single|mixed FACTOR [far] [seek]
  *
  * `far`: the pair 1e3 sizes from the origin. `seek`: the evaluations search a parting plane where no filter parts
- * the pair (ws->seek_parting, poly_overlap_parting_impl.h), as the pair style does for pairs not touching before.
+ * the pair (ws->last_evaluation POLY_LAST_APART, poly_overlap_parting_impl.h), as the pair style does for pairs
+ * not touching at their last evaluation.
  * Prints the pairs found apart with a gap, those moved by the hint's gap, the poses tested, and those with a volume
  * by either evaluation; with `seek` also the pairs only the search parted (`by_search`: apart, found so by no
  * filter without it) and of them those whose evaluation without any filter finds a volume where they are
@@ -79,7 +80,7 @@ int main(int argc, char **argv)
     return 1;
   bare_d.use_filter = bare_d.use_clip = bare_d.use_convex = 0;
   bare_f.use_filter = bare_f.use_clip = bare_f.use_convex = 0;
-  wd.seek_parting = wf.seek_parting = seek;
+  wd.last_evaluation = wf.last_evaluation = seek ? POLY_LAST_APART : POLY_LAST_UNKNOWN;
   const double ra = sa.bounding_radius, rb = sb.bounding_radius, reach = ra + rb;
   const double fractions[4] = {0.5, 0.9, 0.99, 0.999};
   long apart = 0, hinted = 0, tested = 0, found = 0, found_bare = 0, by_search = 0, by_search_overlapping = 0;
@@ -103,9 +104,9 @@ int main(int argc, char **argv)
     if (seek) {
       /* Parted by the search alone: the filters without it leave the pair to the general path. */
       poly_overlap_result unsought, bare;
-      wd.seek_parting = wf.seek_parting = 0;
+      wd.last_evaluation = wf.last_evaluation = POLY_LAST_UNKNOWN;
       evaluate(&a, &b, &wd, &wf, &unsought);
-      wd.seek_parting = wf.seek_parting = 1;
+      wd.last_evaluation = wf.last_evaluation = POLY_LAST_APART;
       if (!unsought.filtered_out) {
         by_search++;
         memset(&bare, 0, sizeof bare);
