@@ -29,7 +29,10 @@ POLY_INLINE void POLY_FN(parting_keep)(double (*w)[3], int *count, const int *ke
   *count = n;
 }
 
-POLY_INLINE double POLY_FN(parting_dot)(const double *x, const double *y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
+POLY_INLINE double POLY_FN(parting_dot)(const double *x, const double *y)
+{
+  return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+}
 
 /* Nearest point to the origin of triangle (p, q, r), its region as the corners it keeps (into keep, returns their
  * count). 0 when the triangle is degenerate (its face region's weights not positive). */
@@ -172,8 +175,8 @@ POLY_INLINE int POLY_FN(parting_search)(const POLY_FN(shape_view) *a, const POLY
       support[k] = rotation[3 * k] * x[0] + rotation[3 * k + 1] * x[1] + rotation[3 * k + 2] * x[2] +
                    translation[k] - (double)y[k];
     /* No point of B - A nearer the origin along v than v itself (to its rounding): v is the nearest. */
-    if (count > 0 && POLY_FN(parting_dot)(v, v) - POLY_FN(parting_dot)(v, support) <= 1e-12 * POLY_FN(parting_dot)(v, v))
-      break;
+    const double nearest2 = count > 0 ? POLY_FN(parting_dot)(v, v) : 0.0;
+    if (count > 0 && nearest2 - POLY_FN(parting_dot)(v, support) <= 1e-12 * nearest2) break;
     for (int k = 0; k < 3; k++) w[count][k] = support[k];
     count++;
     if (!POLY_FN(parting_nearest)(w, &count, v)) break;
