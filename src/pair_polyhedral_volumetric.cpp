@@ -672,9 +672,10 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
           }
           // The filters after the slab by what the pair was at its last evaluation: one touching then is likely
           // touching still, and pays no supporting triangles; one apart then (or new) is likely apart where the
-          // filters do not part it, and is searched for a parting plane (parting_search).
-          const int last = !parting_search ? POLY_LAST_UNKNOWN
-                                           : (touch && touch[jj] ? POLY_LAST_TOUCHING : POLY_LAST_APART);
+          // filters do not part it, and is searched for a parting plane (parting_search). Without LIGGGHTS' touch
+          // flags (`tangential off`: no history list) that is not known, and the former filters stay.
+          const int last = !parting_search || !touch ? POLY_LAST_UNKNOWN
+                                                     : (touch[jj] ? POLY_LAST_TOUCHING : POLY_LAST_APART);
           workspace_d.last_evaluation = workspace_f.last_evaluation = last;
           const long hits = workspace_d.cache_hits + workspace_f.cache_hits;
           overlap(i, j, &geometry, cache);

@@ -85,7 +85,7 @@ def test_pairs_parted_by_the_search_do_not_overlap_nor_within_their_gap(driver, 
     for far in (False, True):
         counts = apart_gap(driver, pair, precision, 0.999, far=far, cases=1500, seek=True)
         assert counts["apart"] > 250, counts
-        assert counts["by_search_overlapping"] == 0, counts
+        assert counts["by_search_overlapping"] == 0 and counts["by_search_moved_overlapping"] == 0, counts
         assert counts["overlapping"] == 0 and counts["overlapping_unfiltered"] == 0, counts
         by_search += counts["by_search"]
     # Schoenhardt pairs in double take the clipping path, which the search does not serve; all others it does.
@@ -94,9 +94,10 @@ def test_pairs_parted_by_the_search_do_not_overlap_nor_within_their_gap(driver, 
 
 
 def test_gaps_of_the_search_are_tight(driver):
+    # Of the pairs only the search parted, moved by three times its gap, some overlap (without any filter).
     counts = apart_gap(driver, PAIRS[0], "double", 3.0, cases=1500, seek=True)
-    assert counts["by_search"] > 10, counts
-    assert counts["overlapping"] > 0.02 * counts["tested"], counts
+    assert counts["by_search_tested"] > 40, counts
+    assert counts["by_search_moved_overlapping"] > 0.02 * counts["by_search_tested"], counts
 
 
 def pile_deck(skip, periodic, precision, parting="on"):

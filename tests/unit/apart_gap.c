@@ -15,9 +15,10 @@
  * the pair (ws->last_evaluation POLY_LAST_APART, poly_overlap_parting_impl.h), as the pair style does for pairs
  * not touching at their last evaluation.
  * Prints the pairs found apart with a gap, those moved by the hint's gap, the poses tested, and those with a volume
- * by either evaluation; with `seek` also the pairs only the search parted (`by_search`: apart, found so by no
- * filter without it) and of them those whose evaluation without any filter finds a volume where they are
- * (`by_search_overlapping`, which must be 0). */
+ * by either evaluation; with `seek` also the pairs only the search parted (`by_search`: apart, with a gap or not,
+ * found so by no filter without it), of them those whose evaluation without any filter finds a volume where they
+ * are (`by_search_overlapping`, which must be 0), and of their moved poses those tested (`by_search_tested`) and
+ * those with a volume without any filter (`by_search_moved_overlapping`). */
 #define _POSIX_C_SOURCE 199309L
 #include <string.h>
 
@@ -58,7 +59,7 @@ static void turn(double *q, double chord)
 int main(int argc, char **argv)
 {
   if (argc < 8) {
-    fprintf(stderr, "usage: apart_gap A_FILE A_SCALE B_FILE B_SCALE CASES double|single|mixed FACTOR [far]\n");
+    fprintf(stderr, "usage: apart_gap A_FILE A_SCALE B_FILE B_SCALE CASES double|single|mixed FACTOR [far] [seek]\n");
     return 2;
   }
   poly_shape sa, sb;
@@ -84,6 +85,7 @@ int main(int argc, char **argv)
   const double ra = sa.bounding_radius, rb = sb.bounding_radius, reach = ra + rb;
   const double fractions[4] = {0.5, 0.9, 0.99, 0.999};
   long apart = 0, hinted = 0, tested = 0, found = 0, found_bare = 0, by_search = 0, by_search_overlapping = 0;
+  long by_search_tested = 0, by_search_moved_overlapping = 0;
   for (int c = 0; c < cases; c++) {
     poly_pose a, b;
     double offset[3] = {0.0, 0.0, 0.0};
@@ -99,15 +101,17 @@ int main(int argc, char **argv)
     }
     poly_overlap_result r;
     evaluate(&a, &b, &wd, &wf, &r);
-    if (!r.filtered_out || !(r.gap > 0.0)) continue;
-    apart++;
+    if (!r.filtered_out) continue;
+    int searched = 0;
     if (seek) {
-      /* Parted by the search alone: the filters without it leave the pair to the general path. */
+      /* Parted by the search alone (with a gap or not): the filters without it leave the pair to the general
+       * path, which must find no volume, nor must the evaluation without any filter. */
       poly_overlap_result unsought, bare;
       wd.last_evaluation = wf.last_evaluation = POLY_LAST_UNKNOWN;
       evaluate(&a, &b, &wd, &wf, &unsought);
       wd.last_evaluation = wf.last_evaluation = POLY_LAST_APART;
       if (!unsought.filtered_out) {
+        searched = 1;
         by_search++;
         memset(&bare, 0, sizeof bare);
         if (precision == POLY_PRECISION_DOUBLE) poly_overlap_d(&da, &a, &db, &b, &bare_d, &bare);
@@ -115,6 +119,8 @@ int main(int argc, char **argv)
         by_search_overlapping += bare.volume > 0.0 || unsought.volume > 0.0;
       }
     }
+    if (!(r.gap > 0.0)) continue;
+    apart++;
     /* Every other pair parted by a supporting triangle moves by the gap the pair style's hint gives instead. */
     double gap = r.gap;
     if (r.separating >= 0 && c % 2 && precision != POLY_PRECISION_MIXED) {
@@ -145,10 +151,13 @@ int main(int argc, char **argv)
       tested++;
       found += moved.volume > 0.0;
       found_bare += bare.volume > 0.0;
+      by_search_tested += searched;
+      by_search_moved_overlapping += searched && bare.volume > 0.0;
     }
   }
   printf("apart %ld by_hint %ld tested %ld overlapping %ld overlapping_unfiltered %ld by_search %ld "
-         "by_search_overlapping %ld\n",
-         apart, hinted, tested, found, found_bare, by_search, by_search_overlapping);
+         "by_search_overlapping %ld by_search_tested %ld by_search_moved_overlapping %ld\n",
+         apart, hinted, tested, found, found_bare, by_search, by_search_overlapping, by_search_tested,
+         by_search_moved_overlapping);
   return 0;
 }

@@ -3,7 +3,7 @@
  * that keeps the pair's cache from step to step and by one without a cache; every result field must be the same
  * bits.
  *
- *   crossing_cache SHAPE_FILE SEQUENCES STEPS double|single|mixed [near]
+ *   crossing_cache SHAPE_FILE SEQUENCES STEPS double|single|mixed [near] [apart]
  *
  * Each sequence: both bodies randomly turned, B along a random direction at the distance that gives an overlap of
  * 0.1 % to 3 % of the volume, then STEPS steps of a random walk of B (translation and rotation, each step's size
@@ -12,7 +12,11 @@
  * beyond touching (a gap of 1e-5 to 1e-3 of the size along the direction), where no plane of the filter parts the
  * bodies though they do not overlap, so that the walk's evaluations are near misses and contacts. Prints the
  * evaluations, the contacts, the near misses, those whose results differ, the cache's hits (and those of near
- * misses), searches and certificates. */
+ * misses), searches and certificates. With `apart`, both workspaces evaluate the pair as the pair style does one
+ * not touching at its last evaluation (last_evaluation POLY_LAST_APART: the parting search, also after a replay the
+ * certificate does not take), and each step is evaluated once more with the former filters: the volumes must be
+ * the same bits; prints also the evaluations the search alone parted (`searched`) and those whose volumes differ
+ * (`volumes_differ`). */
 #define _POSIX_C_SOURCE 199309L
 #include <string.h>
 
@@ -52,12 +56,14 @@ static int same_bits(const poly_overlap_result *x, const poly_overlap_result *y)
 int main(int argc, char **argv)
 {
   if (argc < 5) {
-    fprintf(stderr, "usage: crossing_cache SHAPE_FILE SEQUENCES STEPS double|single|mixed [near]\n");
+    fprintf(stderr, "usage: crossing_cache SHAPE_FILE SEQUENCES STEPS double|single|mixed [near] [apart]\n");
     return 2;
   }
   poly_shape shape;
   if (load_shape(".", argv[1], 1.0, &shape)) return 1;
-  const int sequences = atoi(argv[2]), steps = atoi(argv[3]), near = argc > 5 && !strcmp(argv[5], "near");
+  const int sequences = atoi(argv[2]), steps = atoi(argv[3]);
+  int near = 0, apart = 0;
+  for (int k = 5; k < argc; k++) near |= !strcmp(argv[k], "near"), apart |= !strcmp(argv[k], "apart");
   precision = !strcmp(argv[4], "single") ? POLY_PRECISION_SINGLE
                                          : (!strcmp(argv[4], "mixed") ? POLY_PRECISION_MIXED : POLY_PRECISION_DOUBLE);
   view_d = poly_shape_view_of(&shape);
@@ -73,8 +79,10 @@ int main(int argc, char **argv)
   cached_f.want_second_moment = plain_f.want_second_moment = 1;
   poly_crossing_cache cache;
   cached_d.crossing_cache = cached_f.crossing_cache = &cache;
+  const int last = apart ? POLY_LAST_APART : POLY_LAST_UNKNOWN;
+  cached_d.last_evaluation = cached_f.last_evaluation = plain_d.last_evaluation = plain_f.last_evaluation = last;
   const double size = 2.0 * shape.bounding_radius, volume = shape.volume;
-  long evaluations = 0, differ = 0, contacts = 0, misses = 0, miss_hits = 0;
+  long evaluations = 0, differ = 0, contacts = 0, misses = 0, miss_hits = 0, searched = 0, volumes_differ = 0;
   for (int s = 0; s < sequences; s++) {
     poly_pose a = {{0, 0, 0}, {1, 0, 0, 0}}, b;
     for (int attempt = 0; attempt < 1000; attempt++) {
@@ -121,6 +129,14 @@ int main(int argc, char **argv)
       const int miss = !without.filtered_out && !(without.volume > 0.0);
       misses += miss;
       miss_hits += miss && cached_d.cache_hits + cached_f.cache_hits > hits_before;
+      if (apart) {
+        poly_overlap_result former;
+        plain_d.last_evaluation = plain_f.last_evaluation = POLY_LAST_UNKNOWN;
+        evaluate(&a, &b, &plain_d, &plain_f, &former);
+        plain_d.last_evaluation = plain_f.last_evaluation = POLY_LAST_APART;
+        searched += without.filtered_out && !former.filtered_out;
+        volumes_differ += memcmp(&former.volume, &without.volume, sizeof former.volume) != 0;
+      }
       if (!same_bits(&with, &without)) {
         if (differ < 5)
           fprintf(stderr, "sequence %d step %d: volume %.17g against %.17g\n", s, t, with.volume, without.volume);
@@ -129,10 +145,11 @@ int main(int argc, char **argv)
     }
   }
   const int single = precision != POLY_PRECISION_DOUBLE;
-  printf("evaluations %ld contacts %ld misses %ld differ %ld hits %ld miss_hits %ld searches %ld certificates %ld\n",
+  printf("evaluations %ld contacts %ld misses %ld differ %ld hits %ld miss_hits %ld searches %ld certificates %ld "
+         "searched %ld volumes_differ %ld\n",
          evaluations, contacts, misses, differ, single ? cached_f.cache_hits : cached_d.cache_hits, miss_hits,
          single ? cached_f.cache_searches : cached_d.cache_searches,
-         single ? cached_f.cache_certificates : cached_d.cache_certificates);
+         single ? cached_f.cache_certificates : cached_d.cache_certificates, searched, volumes_differ);
   poly_overlap_workspace_destroy_d(&cached_d);
   poly_overlap_workspace_destroy_d(&plain_d);
   poly_overlap_workspace_destroy_f(&cached_f);
