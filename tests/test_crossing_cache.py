@@ -7,6 +7,9 @@ order, so every result bit must be the search's.
   field the same bits, in double, single and mixed precision, with many steps taken from the cache. Built with
   its certificates inflated a thousandfold (POLY_CACHE_MARGIN_SCALE), the same driver must find differences: the
   comparison can fail.
+- the same driver with `apart` evaluates as the pair style does pairs not touching at their last evaluation (the
+  parting search, also after a replay the certificate does not take): the same bits with and without the cache, and
+  every volume the same bits as with the former filters, while the search parts some near misses.
 - tests/unit/crossing_cache_edge.c moves pairs of other shapes and sizes by 0.5 to 0.999 of their certificate's
   margin: the search's bits, and differences when the certificates are inflated only twice.
 - the same driver with `recheck` rechecks the watched pairs past their margins and moves B to 0.5-0.999 of the
