@@ -342,11 +342,18 @@ POLY_INLINE void poly_cylinder_crossing_pieces(const double (*p)[3], int facets,
   }
 }
 
+/* The directions of the polygon's corners and facet normals a call has needed, by half steps of angle
+ * (2 k: corner k; 2 k + 1: facet k's normal), in a few slots by the index's low bits: a crossing edge is met
+ * by both its triangles, and an arc's end by the next triangle, so most are needed again; the same cos and sin
+ * either way. */
+#define POLY_CYLINDER_MEMO 64
 /* The polygon of one call: its facet count, angle step, facet distance h, corner radius h / cos(step / 2),
  * and cos and sin of the step (corners and facet normals are stepped through by rotation). */
 typedef struct poly_cylinder_polygon {
   int facets;
   double step, h, corner_radius, cos_step, sin_step;
+  int memo_index[POLY_CYLINDER_MEMO];
+  double memo_cos[POLY_CYLINDER_MEMO], memo_sin[POLY_CYLINDER_MEMO];
 } poly_cylinder_polygon;
 
 POLY_INLINE poly_cylinder_polygon poly_cylinder_polygon_of(double radius, int facets)
@@ -358,7 +365,22 @@ POLY_INLINE poly_cylinder_polygon poly_cylinder_polygon_of(double radius, int fa
   g.corner_radius = g.h / cos(0.5 * g.step);
   g.cos_step = cos(g.step);
   g.sin_step = sin(g.step);
+  for (int i = 0; i < POLY_CYLINDER_MEMO; i++) g.memo_index[i] = INT_MIN;
   return g;
+}
+
+/* cos and sin of `angle`, the direction of half-step index `index` (see poly_cylinder_polygon), as computed for
+ * it before if it is still in its slot. */
+POLY_INLINE void poly_cylinder_direction(poly_cylinder_polygon *g, int index, double angle, double *c, double *s)
+{
+  const int slot = index & (POLY_CYLINDER_MEMO - 1);
+  if (g->memo_index[slot] != index) {
+    g->memo_index[slot] = index;
+    g->memo_cos[slot] = cos(angle);
+    g->memo_sin[slot] = sin(angle);
+  }
+  *c = g->memo_cos[slot];
+  *s = g->memo_sin[slot];
 }
 
 /* The facet (0..N-1) whose sector holds the point (x, y) (relative to the axis). */
@@ -369,13 +391,15 @@ POLY_INLINE int poly_cylinder_sector_of(const poly_cylinder_polygon *g, double x
 }
 
 /* Whether the point (x, y) is inside the polygon (its facets' side towards the axis, boundary included). */
-POLY_INLINE int poly_cylinder_in_polygon(const poly_cylinder_polygon *g, double x, double y)
+POLY_INLINE int poly_cylinder_in_polygon(poly_cylinder_polygon *g, double x, double y)
 {
   double r2 = x * x + y * y;
   if (r2 <= g->h * g->h) return 1; /* the inscribed disk */
   if (r2 >= g->corner_radius * g->corner_radius) return 0;
-  double angle = (poly_cylinder_sector_of(g, x, y) + 0.5) * g->step;
-  return cos(angle) * x + sin(angle) * y <= g->h;
+  const int facet = poly_cylinder_sector_of(g, x, y);
+  double nx, ny;
+  poly_cylinder_direction(g, 2 * facet + 1, (facet + 0.5) * g->step, &nx, &ny);
+  return nx * x + ny * y <= g->h;
 }
 
 /* Where the line a + t d (relative to the axis) crosses the polygon's boundary inwards (enter = 1: the
@@ -384,11 +408,12 @@ POLY_INLINE int poly_cylinder_in_polygon(const poly_cylinder_polygon *g, double 
  * inside the corner circle, an annulus in which a segment spans at most one step of angle, so the facet
  * sought is within one of t0's sector; the five about it are tried (one more each side for rounding).
  * Returns the parameter; *facet gets its facet (0..N-1). */
-POLY_INLINE double poly_cylinder_line_crossing(const poly_cylinder_polygon *g, const double a[2], const double d[2],
+POLY_INLINE double poly_cylinder_line_crossing(poly_cylinder_polygon *g, const double a[2], const double d[2],
                                                double t0, int enter, int *facet)
 {
   int first = poly_cylinder_sector_of(g, a[0] + t0 * d[0], a[1] + t0 * d[1]) - 2;
-  double angle = (first + 0.5) * g->step, nx = cos(angle), ny = sin(angle);
+  double nx, ny;
+  poly_cylinder_direction(g, 2 * first + 1, (first + 0.5) * g->step, &nx, &ny);
   double best = t0;
   int best_facet = first + 2, found = 0;
   for (int m = 0; m < 5; m++) {
@@ -412,7 +437,7 @@ POLY_INLINE double poly_cylinder_line_crossing(const poly_cylinder_polygon *g, c
  * closed path entries and exits alternate whatever the rounding; only where the segment passes outside to
  * outside do the parameters decide whether it enters. Returns the count (0..2); t (in [0, 1]), facet and
  * enter (1: into the polygon) of each, in order along the segment. */
-POLY_INLINE int poly_cylinder_edge_crossings(const poly_cylinder_polygon *g, const double a[2], const double d[2],
+POLY_INLINE int poly_cylinder_edge_crossings(poly_cylinder_polygon *g, const double a[2], const double d[2],
                                              int inside_a, int inside_b, double t[2], int facet[2], int enter[2])
 {
   if (inside_a && inside_b) return 0;
@@ -510,7 +535,7 @@ POLY_INLINE void poly_cylinder_lift(const double (*p)[3], const double dir[2], d
  * triangle, the integrals over the triangles (crossing point, segment) on the triangle's plane, the polygon's
  * corners lifted onto it (poly_cylinder_lift). A vertical triangle's arcs are the vertical segments where it
  * meets the facets' planes. Each corner of the polygon inside the triangle costs one term, with no clipping. */
-POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const poly_cylinder_polygon *g, int drum,
+POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], poly_cylinder_polygon *g, int drum,
                                           poly_cylinder_sums *sums)
 {
   double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
@@ -571,7 +596,9 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const poly_cylin
      * corners; a count near `facets` is both ends at one corner, each rounded to another side of it. */
     if (corners > facets / 2 + 1) corners = 0;
     double turn = forward ? g->sin_step : -g->sin_step, u[3] = {out->x[0], out->x[1], out->x[2]};
-    double angle = (forward ? out->facet + 1 : out->facet) * g->step, dir[2] = {cos(angle), sin(angle)};
+    const int corner = forward ? out->facet + 1 : out->facet;
+    double dir[2];
+    poly_cylinder_direction(g, 2 * corner, corner * g->step, &dir[0], &dir[1]);
     for (int q = 0; q < corners; q++) {
       if (steep) {
         double w[3];
@@ -629,7 +656,7 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const poly_cylin
  * sector where its projection reaches the axis, the fast path (fast = 1) or the sector-by-sector clipping.
  * Returns the squared distance of its projection from the axis (the pillar's depth), or INFINITY for a drum
  * triangle within the inscribed circle. */
-POLY_INLINE double poly_cylinder_triangle(const double (*p)[3], const poly_cylinder_polygon *g, int drum, int fast,
+POLY_INLINE double poly_cylinder_triangle(const double (*p)[3], poly_cylinder_polygon *g, int drum, int fast,
                                           poly_cylinder_sums *sums)
 {
   const double h2 = g->h * g->h, corner2 = g->corner_radius * g->corner_radius;
@@ -679,7 +706,7 @@ POLY_INLINE void poly_cylinder_overlap_with(const poly_shape_view_d *shape, cons
     result->filtered_out = 1;
     return;
   }
-  const poly_cylinder_polygon g = poly_cylinder_polygon_of(radius, facets);
+  poly_cylinder_polygon g = poly_cylinder_polygon_of(radius, facets);
   const double h = g.h, corner_radius = g.corner_radius;
 
   /* The cheap bound: a body-frame point v at s = u . (rotation v) along the horizontal unit u from the axis
