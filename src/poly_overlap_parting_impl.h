@@ -132,9 +132,7 @@ POLY_INLINE int POLY_FN(parting_nearest)(double (*w)[3], int *count, double *v)
       pr[k] = r[k] - p[k];
       po[k] = o[k] - p[k];
     }
-    n[0] = pq[1] * pr[2] - pq[2] * pr[1];
-    n[1] = pq[2] * pr[0] - pq[0] * pr[2];
-    n[2] = pq[0] * pr[1] - pq[1] * pr[0];
+    poly_cross3_d(pq, pr, n);
     const double origin_side = -POLY_FN(parting_dot)(p, n), opposite_side = POLY_FN(parting_dot)(po, n);
     if (!(origin_side * opposite_side < 0.0)) continue;
     double u[3];
@@ -175,8 +173,10 @@ POLY_INLINE int POLY_FN(parting_search)(const POLY_FN(shape_view) *a, const POLY
       support[k] = rotation[3 * k] * x[0] + rotation[3 * k + 1] * x[1] + rotation[3 * k + 2] * x[2] +
                    translation[k] - (double)y[k];
     /* No point of B - A nearer the origin along v than v itself (to its rounding): v is the nearest. */
-    const double nearest2 = count > 0 ? POLY_FN(parting_dot)(v, v) : 0.0;
-    if (count > 0 && nearest2 - POLY_FN(parting_dot)(v, support) <= 1e-12 * nearest2) break;
+    if (count > 0) {
+      const double nearest2 = POLY_FN(parting_dot)(v, v);
+      if (nearest2 - POLY_FN(parting_dot)(v, support) <= 1e-12 * nearest2) break;
+    }
     for (int k = 0; k < 3; k++) w[count][k] = support[k];
     count++;
     if (!POLY_FN(parting_nearest)(w, &count, v)) break;
