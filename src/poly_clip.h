@@ -162,15 +162,30 @@ POLY_INLINE void poly_clip_add_polygon(const double *polygon, int count, int on_
   }
 }
 
-/* The extent of `count` corners along `normal`, widening [*low, *high]. */
+/* The extent of `count` corners along `normal`, widening [*low, *high]. In locals, two corners a turn: through the
+ * pointers (which may alias `nodes`) each corner waited on the last one's store, a fifth of a Schoenhardt pair's
+ * clipping (doc/benchmarks.md); min and max are exact, so the order changes no bit. */
 POLY_INLINE void poly_clip_extent(const double *nodes, int count, const double *normal, double *low, double *high)
 {
-  for (int p = 0; p < count; p++) {
+  const double n0 = normal[0], n1 = normal[1], n2 = normal[2];
+  double low_even = *low, high_even = *high, low_odd = *low, high_odd = *high;
+  int p = 0;
+  for (; p + 1 < count; p += 2) {
     const double *x = nodes + 3 * p;
-    double along = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2];
-    *low = along < *low ? along : *low;
-    *high = along > *high ? along : *high;
+    const double even = n0 * x[0] + n1 * x[1] + n2 * x[2], odd = n0 * x[3] + n1 * x[4] + n2 * x[5];
+    low_even = even < low_even ? even : low_even;
+    high_even = even > high_even ? even : high_even;
+    low_odd = odd < low_odd ? odd : low_odd;
+    high_odd = odd > high_odd ? odd : high_odd;
   }
+  if (p < count) {
+    const double *x = nodes + 3 * p;
+    const double last = n0 * x[0] + n1 * x[1] + n2 * x[2];
+    low_even = last < low_even ? last : low_even;
+    high_even = last > high_even ? last : high_even;
+  }
+  *low = low_odd < low_even ? low_odd : low_even;
+  *high = high_odd > high_even ? high_odd : high_even;
 }
 
 POLY_INLINE void poly_clip_accumulator_start(poly_clip_accumulator *acc, int want_second)
