@@ -111,7 +111,10 @@ __device__ inline void append(int take, int p, int *__restrict__ list, int *__re
 }
 
 // Pairs whose bounding spheres overlap, and whose bodies overlap along the
-// centre line, go to the compact list `touching` (counters[0]), or, when the
+// centre line and (`parting_search`, pairs not in contact at their last
+// evaluation) are not parted by the host's parting search (src/poly_overlap_parting_impl.h:
+// most pairs apart that the centre line does not part, which the contact
+// kernels took whole), go to the compact list `touching` (counters[0]), or, when the
 // warp kernel runs (limits.bytes > 0) and a shape exceeds its limits, to
 // `large` (counters[3]) for the one-thread kernel, and get a slot (counters[4])
 // in the per-pair arrays pair_force and results; the others are cleared: no
@@ -122,7 +125,7 @@ __global__ void __launch_bounds__(kThreads)
                     const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
                     const poly_gpu_motion *__restrict__ motion, int *__restrict__ contact,
                     double *__restrict__ history, int *__restrict__ slot, int *__restrict__ touching,
-                    int *__restrict__ large, WarpLimits limits, int *__restrict__ counters)
+                    int *__restrict__ large, WarpLimits limits, int parting_search, int *__restrict__ counters)
 {
   typedef Narrow<Precision> N;
   int p = blockIdx.x * blockDim.x + threadIdx.x;
@@ -139,7 +142,7 @@ __global__ void __launch_bounds__(kThreads)
       poly_overlap_relative_pose(motion[i].position, motion[i].quaternion, motion[j].position, motion[j].quaternion,
                                  rotation_i, rotation, translation);
       typename N::View a = N::view(shapes, shape_i), b = N::view(shapes, shape_j);
-      take = !N::separated(&a, &b, rotation, translation);
+      take = !N::separated(&a, &b, rotation, translation, parting_search && !contact[p]);
     }
     if (!take) {
       contact[p] = 0;
@@ -457,7 +460,7 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
   bounding_kernel<Precision><<<(num_pairs + kThreads - 1) / kThreads, kThreads>>>(
       s, num_pairs, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
       state.contact.data, state.history.data, state.slot.data, state.touching.data, state.large.data, limits,
-      state.counters.data);
+      settings.parting_search, state.counters.data);
   int counts[5] = {0, 0, 0, 0, 0};
   if (!check(cudaGetLastError(), "bounding kernel launch", message, size) ||
       !check(cudaMemcpy(counts, state.counters.data, sizeof counts, cudaMemcpyDeviceToHost), "bounding kernel",
@@ -466,6 +469,7 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
   const int num_touching = counts[0], num_large = counts[3];
   // The per-pair arrays for the kept pairs only.
   state.num_kept = counts[4];
+  state.timing.kept += counts[4];
   PairGeometry *device_results = NULL;
   if (!ensure(state.pair_force, state.num_kept, message, size)) return false;
   if (want_results) {

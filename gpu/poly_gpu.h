@@ -68,6 +68,7 @@ typedef struct poly_gpu_settings {
   int tangential, damping;       /* the pair style's switches */
   int rocking;                   /* rocking damping: the overlaps' second moments go to the contact law */
   int advance_history;           /* 0 in set-up force evaluations */
+  int parting_search;            /* pairs not in contact at their last evaluation are searched for a parting plane */
   double dt;
 } poly_gpu_settings;
 
@@ -122,6 +123,7 @@ typedef struct poly_gpu_timing {
   long num_set_pairs, num_compute;
   long pairs;                    /* candidate pairs, summed over the poly_gpu_compute calls */
   long handed_back;              /* pairs the warp kernel left to the one-thread kernel (flush faces, ...) */
+  long kept;                     /* of the candidate pairs, those the pre-filter left to the contact kernels */
   double wall_seconds;           /* poly_gpu_wall_overlaps: pieces up, overlaps and nodes down */
   long wall_calls, wall_pieces;  /* its calls, and their pieces summed */
   long wall_handed_back;         /* pieces its lanes left to the one-thread kernel */

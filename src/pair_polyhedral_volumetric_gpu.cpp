@@ -214,6 +214,7 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
   settings.damping = damping;
   settings.rocking = damping && rocking_damping;
   settings.advance_history = advance_history;
+  settings.parting_search = parting_search;
   settings.dt = update->dt;
 
   // The virial and contact records need each pair on the host; otherwise the

@@ -660,9 +660,7 @@ typedef struct POLY_FN(filtered) {
 
 #include "poly_overlap_reference_impl.h"
 #include "poly_overlap_records_impl.h"
-#if POLY_OVERLAP_RECORDS
 #include "poly_overlap_parting_impl.h"
-#endif
 #include "poly_overlap_convex_impl.h"
 #include "poly_overlap_blocks_impl.h"
 

@@ -178,6 +178,29 @@ def test_both_clipping_kernels_agree_with_cpu(launcher, kernel):
     assert run.stdout.strip().endswith("OK")
 
 
+@needs_gpu
+def test_gpu_parting_search_leaves_the_contacts(launcher):
+    """The pre-filter's parting search (pair_style polyhedral/volumetric's `parting_search`, on the GPU for pairs
+    not in contact at their last evaluation): on the bed's pair mix (half the pairs apart with touching bounding
+    spheres) it must leave fewer pairs to the contact kernels than the centre line's slab alone, and the same
+    contacts; POLY_GPU_PARTING_SEARCH=0 turns it off. Its pairs' agreement with the host is
+    test_gpu_and_cpu_agree_pair_by_pair's (the first call after the pairs are set searches every pair)."""
+    def bed(search):
+        run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
+                              "20000", "double", "bed", "schoenhardt"], capture_output=True, text=True,
+                             env=dict(os.environ, POLY_GPU_PARTING_SEARCH=search))
+        assert run.returncode == 0, run.stdout + run.stderr
+        match = re.search(r"(\d+) contacts, +(\d+) past the pre-filter", run.stdout)
+        assert match, run.stdout
+        return int(match.group(1)), int(match.group(2))
+    contacts_on, kept_on = bed("1")
+    contacts_off, kept_off = bed("0")
+    print("contacts %d / %d, past the pre-filter %d with the search, %d without" % (contacts_on, contacts_off,
+                                                                                     kept_on, kept_off))
+    assert contacts_on == contacts_off
+    assert contacts_on <= kept_on < kept_off
+
+
 def thousand_particles(seed=3):
     """A bed of 12 x 12 fixed cubes and 856 rocks and Schönhardt polyhedra above it: 1000 particles."""
     rng = random.Random(seed)
