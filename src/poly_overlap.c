@@ -148,14 +148,23 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
                                          double *local_normal, poly_overlap_result *result)            \
   {                                                                                                   \
     if (!ws->use_clip || !poly_clip_takes(&a->clip) || !poly_clip_takes(&b->clip)) return 0;          \
-    if (a->clip.num_pieces > 1 || b->clip.num_pieces > 1) {                                           \
-      /* The general path's slab first: an apart pair of pieces costs a projection, not every piece. */ \
-      double axis[3], extent_a, extent_b;                                                             \
-      if (poly_overlap_slab##SUFFIX(a, b, rotation, translation, axis, &extent_a, &extent_b)) {       \
+    /* The general path's slab first for pieces (an apart pair of pieces costs a projection, not every piece), \
+     * and for a pair apart at its last evaluation its parting search (the general path's filters): the       \
+     * clipping finds such a pair apart too, but proves no gap for skip_apart to wait on. */                  \
+    const int search = ws->use_filter && ws->last_evaluation == POLY_LAST_APART;                      \
+    if (a->clip.num_pieces > 1 || b->clip.num_pieces > 1 || search) {                                 \
+      double axis[3], extent_a, extent_b, separation;                                                 \
+      int extreme_a, extreme_b;                                                                       \
+      int apart = poly_overlap_slab_extremes##SUFFIX(a, b, rotation, translation, axis, &extent_a, &extent_b, \
+                                                     &extreme_a, &extreme_b);                         \
+      separation = extent_b - extent_a;                                                               \
+      if (!apart && search)                                                                           \
+        apart = poly_parting_search##SUFFIX(a, b, rotation, translation, extreme_a, extreme_b, &separation); \
+      if (apart) {                                                                                    \
         memset(result, 0, sizeof *result);                                                            \
         result->filtered_out = 1;                                                                     \
         result->separating = -1;                                                                      \
-        result->gap = poly_proved_gap##SUFFIX(a, b, extent_b - extent_a);                            \
+        result->gap = poly_proved_gap##SUFFIX(a, b, separation);                                      \
         ws->num_points = 0;                                                                           \
         return 1;                                                                                     \
       }                                                                                               \

@@ -16,7 +16,8 @@ step).
 - The parting search (`parting_search on`, the default; src/poly_overlap_parting_impl.h): the same random pairs
   evaluated with it, so that pairs no filter parts are searched for a parting plane: no pair it parts has a volume by
   the evaluation without any filter, and its gaps hold as the filters' do. The pile with `parting_search on` and `off`:
-  the same thermo output and contacts, fewer near misses.
+  the same thermo output and contacts, fewer near misses (rock_40, the general path), and for Schoenhardt polyhedra
+  (the clipping path, which finds apart pairs apart without a gap) fewer evaluations of apart pairs.
 
 Run with Debian's python3:  /usr/bin/python3 -m pytest tests/test_skip_apart.py -q
 """
@@ -88,9 +89,9 @@ def test_pairs_parted_by_the_search_do_not_overlap_nor_within_their_gap(driver, 
         assert counts["by_search_overlapping"] == 0 and counts["by_search_moved_overlapping"] == 0, counts
         assert counts["overlapping"] == 0 and counts["overlapping_unfiltered"] == 0, counts
         by_search += counts["by_search"]
-    # Schoenhardt pairs in double take the clipping path, which the search does not serve; all others it does.
-    if not (pair[2] == "schoenhardt.stl" and precision != "single"):
-        assert by_search >= 5, by_search
+    # The general path's pairs and the clipping path's (Schoenhardt pairs in double and mixed: the search gives
+    # them the gap the clipping does not prove).
+    assert by_search >= 5, by_search
 
 
 def test_gaps_of_the_search_are_tight(driver):
@@ -142,8 +143,11 @@ def test_a_pile_of_rocks_runs_the_same_with_and_without_the_skip(run_deck, tmp_p
     assert counts["on"]["parted"] < 0.2 * counts["off"]["parted"]
 
 
-def test_a_pile_of_rocks_runs_the_same_with_and_without_the_parting_search(run_deck, tmp_path):
-    variables = {"SHAPE": os.path.join(SHAPES, "rock_40.obj"), "N": 80, "settle": 20000, "steps": 10000,
+@pytest.mark.parametrize("shape", ["rock_40.obj", "schoenhardt.stl"])
+def test_a_pile_of_rocks_runs_the_same_with_and_without_the_parting_search(run_deck, tmp_path, shape):
+    """rock_40 takes the general path, whose near misses the search parts; Schoenhardt polyhedra the clipping path,
+    which finds its apart pairs apart but proves no gap: the search's gaps let them wait (skip_apart)."""
+    variables = {"SHAPE": os.path.join(SHAPES, shape), "N": 80, "settle": 20000, "steps": 10000,
                  "every": 500, "ZFILL": 0.08}
     outputs, counts = {}, {}
     for parting in ("on", "off"):
@@ -153,9 +157,13 @@ def test_a_pile_of_rocks_runs_the_same_with_and_without_the_parting_search(run_d
         table = result.thermo("Step", "c_ev[4]", "c_ev[6]", "c_ev[7]", "c_ev[8]")
         counts[parting] = {name: table[f"c_ev[{k}]"][-1]
                            for k, name in ((4, "candidates"), (6, "contacts"), (7, "parted"), (8, "near misses"))}
-    print(f"\nparting search on {counts['on']}, off {counts['off']}")
+    print(f"\n{shape}: parting search on {counts['on']}, off {counts['off']}")
     assert len(outputs["on"]["Step"]) > 8
     assert outputs["on"] == outputs["off"]
     for name in ("candidates", "contacts"):
         assert counts["on"][name] == counts["off"][name], name
-    assert counts["on"]["near misses"] < 0.5 * counts["off"]["near misses"]
+    if shape == "rock_40.obj":
+        assert counts["on"]["near misses"] < 0.5 * counts["off"]["near misses"]
+    else:
+        # (its few near misses are pairs with flush faces, which the clipping hands to the general path)
+        assert counts["on"]["parted"] < 0.7 * counts["off"]["parted"]

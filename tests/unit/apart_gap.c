@@ -16,7 +16,7 @@
  * not touching at their last evaluation.
  * Prints the pairs found apart with a gap, those moved by the hint's gap, the poses tested, and those with a volume
  * by either evaluation; with `seek` also the pairs only the search parted (`by_search`: apart, with a gap or not,
- * found so by no filter without it), of them those whose evaluation without any filter finds a volume where they
+ * found so by no filter without it, or found apart by the clipping path without it but with no gap), of them those whose evaluation without any filter finds a volume where they
  * are (`by_search_overlapping`, which must be 0), and of their moved poses those tested (`by_search_tested`) and
  * those with a volume without any filter (`by_search_moved_overlapping`). */
 #define _POSIX_C_SOURCE 199309L
@@ -105,12 +105,13 @@ int main(int argc, char **argv)
     int searched = 0;
     if (seek) {
       /* Parted by the search alone (with a gap or not): the filters without it leave the pair to the general
-       * path, which must find no volume, nor must the evaluation without any filter. */
+       * path, or the clipping finds it apart with no gap, and neither may find a volume, nor may the evaluation
+       * without any filter. */
       poly_overlap_result unsought, bare;
       wd.last_evaluation = wf.last_evaluation = POLY_LAST_UNKNOWN;
       evaluate(&a, &b, &wd, &wf, &unsought);
       wd.last_evaluation = wf.last_evaluation = POLY_LAST_APART;
-      if (!unsought.filtered_out) {
+      if (!unsought.filtered_out || (!(unsought.gap > 0.0) && r.gap > 0.0)) {
         searched = 1;
         by_search++;
         memset(&bare, 0, sizeof bare);
