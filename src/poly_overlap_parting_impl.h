@@ -1,5 +1,6 @@
 /* The parting search: a plane between two bodies that neither the centre line's slab nor a supporting triangle
- * parts (the host's general path; on the GPU, the pre-filter before the contact kernels). Included by poly_overlap_impl.h once per precision (no include guard).
+ * parts (the host's general path and its clipping path; on the GPU, the pre-filter before the contact kernels).
+ * Included by poly_overlap_impl.h once per precision (no include guard).
  *
  * Why: of the pairs whose bounding spheres meet, some are apart and yet not parted by those filters (two rocks edge
  * to edge: no face plane and not the centre line separates them), and each such near miss paid the whole general

@@ -16,9 +16,10 @@
  * not touching at their last evaluation.
  * Prints the pairs found apart with a gap, those moved by the hint's gap, the poses tested, and those with a volume
  * by either evaluation; with `seek` also the pairs only the search parted (`by_search`: apart, with a gap or not,
- * found so by no filter without it, or found apart by the clipping path without it but with no gap), of them those whose evaluation without any filter finds a volume where they
- * are (`by_search_overlapping`, which must be 0), and of their moved poses those tested (`by_search_tested`) and
- * those with a volume without any filter (`by_search_moved_overlapping`). */
+ * found so by no filter without it, or found apart by the clipping path without it but with no gap), of them those
+ * whose evaluation without any filter finds a volume where they are (`by_search_overlapping`, which must be 0), and
+ * of their moved poses those tested (`by_search_tested`) and those with a volume without any filter
+ * (`by_search_moved_overlapping`). */
 #define _POSIX_C_SOURCE 199309L
 #include <string.h>
 

@@ -144,7 +144,8 @@ int main(int argc, char **argv)
   settings.rocking = 1;
   settings.dt = 1e-6;
   // The pair style's default; POLY_GPU_PARTING_SEARCH=0 in the environment turns it off (a check, or timings).
-  settings.parting_search = !(getenv("POLY_GPU_PARTING_SEARCH") && strcmp(getenv("POLY_GPU_PARTING_SEARCH"), "0") == 0);
+  const char *parting = getenv("POLY_GPU_PARTING_SEARCH");
+  settings.parting_search = !(parting && strcmp(parting, "0") == 0);
   ws_d.want_second_moment = ws_f.want_second_moment = 1;  // the rocking damping, as the pair style's default
 
   int failures = 0;
