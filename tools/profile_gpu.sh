@@ -11,9 +11,9 @@
 # then the windows' five hottest instructions. Which source a window is (the clipping loop: its side products,
 # DMUL and DFMA, and corner stores, STL; the contact law: one thread an instruction) is read from them.
 #
-# For each shape, `ncu` profiles the contact kernels of one step of build/tests/gpu_agreement SHAPES PAIRS
-# PRECISION bed SHAPE (the packed bed's pair mix of tools/bench_gpu.sh; the driver's first launch of each kernel,
-# a warm-up, is skipped) and prints per kernel: registers per thread, theoretical and achieved occupancy, active
+# For each shape, `ncu` profiles the pre-filter and the contact kernels of build/tests/gpu_agreement SHAPES PAIRS
+# PRECISION bed SHAPE (the packed bed's pair mix of tools/bench_gpu.sh; the driver's first launch, a warm-up, is
+# skipped, then two launches of each) and prints per kernel: registers per thread, theoretical and achieved occupancy, active
 # threads per warp instruction (32: none diverged or finished), the FP64 pipe's busy share of the SM's active
 # cycles, the double-precision operations executed (an FMA counts 2) per second of the kernel, and that as a
 # share of 3.4e13/s (an H100's FP64 peak without tensor cores), and the kernel's duration. Then the stall reasons
@@ -42,7 +42,8 @@ driver="$root/build/tests/gpu_agreement"
 command -v ncu > /dev/null || { echo "ncu (Nsight Compute) is not on the PATH" >&2; exit 1; }
 source "$root/tools/bench_gpu_common.sh"
 echo "commit: $commit; $pairs bed pairs, $precision"
-kernels='regex:^(clip_warp_kernel|clip_contact_kernel|contact_kernel|warp_contact_kernel)'
+# The pre-filter too: since the parting search (doc/benchmarks.md) it is more than a sphere and slab test.
+kernels='regex:^(bounding_kernel|clip_warp_kernel|clip_contact_kernel|contact_kernel|warp_contact_kernel)'
 metrics=launch__registers_per_thread,sm__maximum_warps_per_active_cycle_pct,sm__warps_active.avg.pct_of_peak_sustained_active
 metrics=$metrics,smsp__thread_inst_executed_per_inst_executed.ratio,sm__pipe_fp64_cycles_active.avg.pct_of_peak_sustained_active
 metrics=$metrics,smsp__sass_thread_inst_executed_op_dfma_pred_on.sum,smsp__sass_thread_inst_executed_op_dadd_pred_on.sum
@@ -51,7 +52,7 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 printf '%-12s %-28s %5s %7s %7s %8s %7s %10s %8s %9s\n' shape kernel regs occ_th occ_ach thr/warp fp64% DP_op/s of_peak time_us
 for shape in $shapes; do
-  ncu --clock-control none --kernel-name "$kernels" --launch-skip 1 --launch-count 2 --metrics "$metrics" --csv \
+  ncu --clock-control none --kernel-name "$kernels" --launch-skip 1 --launch-count 4 --metrics "$metrics" --csv \
     --page raw "$driver" "$root/examples/shapes" "$pairs" "$precision" bed "$shape" > "$work/$shape.csv" 2> "$work/$shape.err" ||
     { echo "$shape: ncu failed:"; tail -5 "$work/$shape.err"; continue; }
   /usr/bin/env python3 - "$work/$shape.csv" "$shape" <<'EOF'
@@ -83,7 +84,8 @@ EOF
 done
 for shape in $shapes; do
   echo "== stalls, $shape (first profiled kernel)"
-  ncu --clock-control none --kernel-name "$kernels" --launch-skip 1 --launch-count 1 --section WarpStateStats \
+  ncu --clock-control none --kernel-name "${kernels/bounding_kernel|/}" --launch-skip 1 --launch-count 1 \
+    --section WarpStateStats \
     "$driver" "$root/examples/shapes" "$pairs" "$precision" bed "$shape" 2>&1 |
     grep -iE -A2 'warp cycles per|active threads|being stalled|^  [a-z_]+' | grep -v -- '^--$' | cut -c1-160 | head -24 || true
 done
