@@ -203,20 +203,22 @@ POLY_INLINE void poly_clip_accumulate(poly_clip_accumulator *acc, double *polygo
 {
   if (acc->num_corners == 0)
     for (int k = 0; k < 3; k++) acc->reference[k] = polygon[k];
-  for (int c = 0; c < n; c++)
-    for (int k = 0; k < 3; k++) polygon[3 * c + k] -= acc->reference[k];
+  const double r0 = acc->reference[0], r1 = acc->reference[1], r2 = acc->reference[2];
   acc->num_corners += n;
+  /* The corners from the reference straight into the kept ones where they fit (one pass, not two), else in place. */
+  const int keep = !acc->depth_pass && acc->num_kept + n <= POLY_CLIP_MAX_NODES;
+  double *corners = keep ? acc->nodes + 3 * acc->num_kept : polygon;
+  for (int c = 0; c < n; c++) {
+    const double x = polygon[3 * c] - r0, y = polygon[3 * c + 1] - r1, z = polygon[3 * c + 2] - r2;
+    corners[3 * c] = x, corners[3 * c + 1] = y, corners[3 * c + 2] = z;
+  }
   if (acc->depth_pass) {
-    poly_clip_extent(polygon, n, acc->direction, &acc->low, &acc->high);
+    poly_clip_extent(corners, n, acc->direction, &acc->low, &acc->high);
     return;
   }
-  poly_clip_add_polygon(polygon, n, on_a, &acc->sums);
-  if (acc->num_kept + n <= POLY_CLIP_MAX_NODES) {
-    for (int c = 0; c < 3 * n; c++) acc->nodes[3 * acc->num_kept + c] = polygon[c];
-    acc->num_kept += n;
-  } else {
-    acc->overflow = 1;
-  }
+  poly_clip_add_polygon(corners, n, on_a, &acc->sums);
+  if (keep) acc->num_kept += n;
+  else acc->overflow = 1;
 }
 
 /* The faces of `body` (vertices `x`, already in A's frame) clipped by `planes` of the other body (A's frame),
