@@ -161,13 +161,8 @@ template <int Precision> struct Narrow;
     static __device__ int separated(const View *a, const View *b, const double *rotation, const double *translation, \
                                     int search)                                                                   \
     {                                                                                                              \
-      double axis[3], extent_a, extent_b, separation;                                                              \
-      int extreme_a, extreme_b;                                                                                    \
-      if (poly_overlap_slab_extremes##SUFFIX(a, b, rotation, translation, axis, &extent_a, &extent_b, &extreme_a,  \
-                                             &extreme_b))                                                          \
-        return 1;                                                                                                  \
-      return search &&                                                                                             \
-             poly_parting_search##SUFFIX(a, b, rotation, translation, extreme_a, extreme_b, &separation);         \
+      double separation;                                                                                           \
+      return poly_slab_or_parting##SUFFIX(a, b, rotation, translation, search, &separation);                      \
     }                                                                                                              \
     static __device__ void overlap(const View *a, const View *b, const double *rotation, const double *translation, \
                                    Workspace *ws, double *centroid, double *normal, poly_overlap_result *result)   \

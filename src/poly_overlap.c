@@ -153,14 +153,8 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
      * clipping finds such a pair apart too, but proves no gap for skip_apart to wait on. */                  \
     const int search = ws->use_filter && ws->last_evaluation == POLY_LAST_APART;                      \
     if (a->clip.num_pieces > 1 || b->clip.num_pieces > 1 || search) {                                 \
-      double axis[3], extent_a, extent_b, separation;                                                 \
-      int extreme_a, extreme_b;                                                                       \
-      int apart = poly_overlap_slab_extremes##SUFFIX(a, b, rotation, translation, axis, &extent_a, &extent_b, \
-                                                     &extreme_a, &extreme_b);                         \
-      separation = extent_b - extent_a;                                                               \
-      if (!apart && search)                                                                           \
-        apart = poly_parting_search##SUFFIX(a, b, rotation, translation, extreme_a, extreme_b, &separation); \
-      if (apart) {                                                                                    \
+      double separation;                                                                              \
+      if (poly_slab_or_parting##SUFFIX(a, b, rotation, translation, search, &separation)) {           \
         memset(result, 0, sizeof *result);                                                            \
         result->filtered_out = 1;                                                                     \
         result->separating = -1;                                                                      \

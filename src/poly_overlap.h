@@ -201,7 +201,8 @@ enum { POLY_LAST_UNKNOWN = 0, POLY_LAST_TOUCHING = 1, POLY_LAST_APART = 2 };
     int last_evaluation;               /* what the caller knows of the pair, which picks the filters tried after \
                                           the slab: POLY_LAST_UNKNOWN (default) the supporting triangles; \
                                           POLY_LAST_TOUCHING none (they part few such pairs); POLY_LAST_APART \
-                                          those and the parting search (poly_overlap_parting_impl.h) */ \
+                                          those and the parting search (poly_overlap_parting_impl.h; the \
+                                          clipping path's pairs too, before the clipping) */             \
     long cache_hits, cache_searches, cache_certificates; /* evaluations that took the cached crossings; that \
                                           searched with a cache given; certificates made */           \
   } poly_overlap_workspace##SUFFIX;

@@ -35,54 +35,48 @@ POLY_INLINE double POLY_FN(parting_dot)(const double *x, const double *y)
   return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
 }
 
+/* parting_triangle's answers: a corner's region (the corner itself, keeping corner i), and an edge's (the point
+ * at t along it from `from`, keeping corners i and j). */
+POLY_INLINE int POLY_FN(parting_at_corner)(const double *corner, int i, double *v, int *keep)
+{
+  for (int k = 0; k < 3; k++) v[k] = corner[k];
+  keep[0] = i;
+  return 1;
+}
+
+POLY_INLINE int POLY_FN(parting_on_edge)(const double *from, const double *along, double t, int i, int j, double *v,
+                                         int *keep)
+{
+  for (int k = 0; k < 3; k++) v[k] = from[k] + t * along[k];
+  keep[0] = i, keep[1] = j;
+  return 2;
+}
+
 /* Nearest point to the origin of triangle (p, q, r), its region as the corners it keeps (into keep, returns their
  * count). 0 when the triangle is degenerate (its face region's weights not positive). */
 POLY_INLINE int POLY_FN(parting_triangle)(const double *p, const double *q, const double *r, double *v, int *keep)
 {
-  double pq[3], pr[3];
+  double pq[3], pr[3], qr[3];
   for (int k = 0; k < 3; k++) {
     pq[k] = q[k] - p[k];
     pr[k] = r[k] - p[k];
+    qr[k] = r[k] - q[k];
   }
   const double d1 = -POLY_FN(parting_dot)(pq, p), d2 = -POLY_FN(parting_dot)(pr, p);
-  if (d1 <= 0.0 && d2 <= 0.0) {
-    for (int k = 0; k < 3; k++) v[k] = p[k];
-    keep[0] = 0;
-    return 1;
-  }
+  if (d1 <= 0.0 && d2 <= 0.0) return POLY_FN(parting_at_corner)(p, 0, v, keep);
   const double d3 = -POLY_FN(parting_dot)(pq, q), d4 = -POLY_FN(parting_dot)(pr, q);
-  if (d3 >= 0.0 && d4 <= d3) {
-    for (int k = 0; k < 3; k++) v[k] = q[k];
-    keep[0] = 1;
-    return 1;
-  }
+  if (d3 >= 0.0 && d4 <= d3) return POLY_FN(parting_at_corner)(q, 1, v, keep);
   const double weight_r = d1 * d4 - d3 * d2;
-  if (weight_r <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0) {
-    const double t = d1 / (d1 - d3);
-    for (int k = 0; k < 3; k++) v[k] = p[k] + t * pq[k];
-    keep[0] = 0, keep[1] = 1;
-    return 2;
-  }
+  if (weight_r <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0)
+    return POLY_FN(parting_on_edge)(p, pq, d1 / (d1 - d3), 0, 1, v, keep);
   const double d5 = -POLY_FN(parting_dot)(pq, r), d6 = -POLY_FN(parting_dot)(pr, r);
-  if (d6 >= 0.0 && d5 <= d6) {
-    for (int k = 0; k < 3; k++) v[k] = r[k];
-    keep[0] = 2;
-    return 1;
-  }
+  if (d6 >= 0.0 && d5 <= d6) return POLY_FN(parting_at_corner)(r, 2, v, keep);
   const double weight_q = d5 * d2 - d1 * d6;
-  if (weight_q <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0) {
-    const double t = d2 / (d2 - d6);
-    for (int k = 0; k < 3; k++) v[k] = p[k] + t * pr[k];
-    keep[0] = 0, keep[1] = 2;
-    return 2;
-  }
+  if (weight_q <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0)
+    return POLY_FN(parting_on_edge)(p, pr, d2 / (d2 - d6), 0, 2, v, keep);
   const double weight_p = d3 * d6 - d5 * d4;
-  if (weight_p <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0) {
-    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    for (int k = 0; k < 3; k++) v[k] = q[k] + t * (r[k] - q[k]);
-    keep[0] = 1, keep[1] = 2;
-    return 2;
-  }
+  if (weight_p <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0)
+    return POLY_FN(parting_on_edge)(q, qr, (d4 - d3) / ((d4 - d3) + (d5 - d6)), 1, 2, v, keep);
   const double total = weight_p + weight_r + weight_q;
   if (!(total > 0.0)) return 0;
   const double s = weight_q / total, t = weight_r / total;
@@ -196,4 +190,20 @@ POLY_INLINE int POLY_FN(parting_search)(const POLY_FN(shape_view) *a, const POLY
   }
   *separation = best;
   return best > reach;
+}
+
+/* The centre line's slab, then (with `search`) the parting search: 1 when either parts the bodies, with
+ * *separation the gap it leaves. The clipping path's filter on the host and the GPU's pre-filter. */
+POLY_INLINE int POLY_FN(slab_or_parting)(const POLY_FN(shape_view) *a, const POLY_FN(shape_view) *b,
+                                         const double *rotation, const double *translation, int search,
+                                         double *separation)
+{
+  double axis[3], extent_a, extent_b;
+  int extreme_a, extreme_b;
+  int apart = POLY_FN(overlap_slab_extremes)(a, b, rotation, translation, axis, &extent_a, &extent_b, &extreme_a,
+                                             &extreme_b);
+  *separation = extent_b - extent_a;
+  if (!apart && search)
+    apart = POLY_FN(parting_search)(a, b, rotation, translation, extreme_a, extreme_b, separation);
+  return apart;
 }
