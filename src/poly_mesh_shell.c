@@ -484,7 +484,7 @@ static int prism_add_triangle(int *triangles, int count, int a, int b, int c)
 /* The prism's supporting triangles (every corner on or behind the plane, to 1e-12 of its size: the
  * separation test of the overlap) and, when all 8 support it (a convex prism: side quads planar or folded
  * outwards, as over a flat or convex stretch of wall), its faces (coplanar triangles merged) and ridges, so
- * that a convex particle and it take the blocks path. Otherwise the general path (a side quad folded inwards
+ * that a convex particle the clipping path does not take (an icosphere) and it take the convex path. Otherwise the general path (a side quad folded inwards
  * makes the prism non-convex). */
 /* clip_view: the view with its clip pointing at the prism's own clip arrays (num_faces faces found by
  * prism_clip_faces or prism_clip_tetrahedra; their other counts in the prism). */
@@ -728,7 +728,7 @@ void poly_mesh_prism_clip_faces(poly_mesh_prism *prism)
 
 const poly_shape_view_d *poly_mesh_prism_view(poly_mesh_prism *prism, const poly_shape_view_d *particle)
 {
-  if (!(particle->clip.num_pieces > 1 && poly_clip_takes(&particle->clip))) return &prism->view;
+  if (!poly_clip_takes(&particle->clip)) return &prism->view;
   poly_mesh_prism_clip_faces(prism);
   return prism->clip_view.clip.num_faces > 0 ? &prism->clip_view : &prism->view;
 }

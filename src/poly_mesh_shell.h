@@ -137,9 +137,9 @@ typedef struct poly_mesh_prism {
 void poly_mesh_prism_clip_faces(poly_mesh_prism *prism);
 
 /* The view of the prism that `particle` meets it by (fix wall/polyhedral): with clip faces (made the first time)
- * when the particle is in convex pieces (Schönhardt, rock_10: their clipping against prisms is 1.3-1.4x faster
- * than the general path), else without, whatever other particles made: a convex particle keeps the blocks path,
- * as fast as the clipping there (doc/benchmarks.md), so its result does not depend on its neighbours. */
+ * when the host's clipping path takes the particle (convex shapes of few faces, and shapes in convex pieces:
+ * against prisms 1.3-1.4x faster than the blocks and general paths, doc/benchmarks.md), else without, whatever
+ * other particles made, so that its result does not depend on its neighbours. */
 const poly_shape_view_d *poly_mesh_prism_view(poly_mesh_prism *prism, const poly_shape_view_d *particle);
 
 /* The prism of global triangle `triangle` whose current corners are `nodes`
