@@ -96,6 +96,7 @@ typedef struct poly_clip_faces {
   poly_clip_words support_planes;
   const int *face_plane;  /* per face the index of its plane among `planes` (pieces only; NULL: not known) */
   int many_faces;         /* 1: the host takes these pieces whatever their faces (the mesh walls' pieces) */
+  int facets;             /* 1: each face is all of its piece on its plane (a mesh wall's prism: poly_clip_mesh.h) */
 } poly_clip_faces;
 
 /* What the clipping gives, in A's body frame (the caller turns it to world). */

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "poly_clip.h"
+#include "poly_clip_mesh.h"
 #include "poly_shape.h"
 
 static void shell_sub(const double *a, const double *b, double *out)
@@ -514,6 +514,7 @@ static void prism_bind_clip(poly_mesh_prism *prism, int num_faces)
     if (prism->clip_plane_support[k] >= 0) clip->support_planes.low |= 1ull << k;
   clip->face_plane = prism->clip_face_plane;
   clip->many_faces = 0;
+  clip->facets = 1;  /* a convex prism's merged faces, or its split's triangles, each a whole facet of its piece */
 }
 
 /* A convex prism's faces as the clipping path takes them (as poly_convex.c's find_clip_faces does for a shape):
@@ -728,7 +729,10 @@ void poly_mesh_prism_clip_faces(poly_mesh_prism *prism)
 
 const poly_shape_view_d *poly_mesh_prism_view(poly_mesh_prism *prism, const poly_shape_view_d *particle)
 {
-  if (!poly_clip_takes(&particle->clip)) return &prism->view;
+  if (!poly_clip_takes(&particle->clip) &&
+      !(POLY_CLIP_MESH_PATH && poly_clip_mesh_fits(particle->num_vertices, particle->num_triangles,
+                                                   particle->triangle_edges)))
+    return &prism->view;
   poly_mesh_prism_clip_faces(prism);
   return prism->clip_view.clip.num_faces > 0 ? &prism->clip_view : &prism->view;
 }

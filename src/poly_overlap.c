@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "poly_clip_mesh.h"
 #include "poly_overlap_instances.h"
 
 /* The clipping path's faces and pieces (double, whatever the view's precision: mixed precision clips in double). */
@@ -31,6 +32,7 @@ static poly_clip_faces clip_faces_of(const poly_shape *shape)
   clip.support_planes = shape->clip_support_planes;
   clip.face_plane = shape->clip_face_plane;
   clip.many_faces = shape->clip_many_faces;
+  clip.facets = 0;  /* a shape's pairs keep poly_clip.h's path (the mesh path is the walls': their prisms) */
   return clip;
 }
 
@@ -137,6 +139,22 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
   poly_second_moment_rotate(rotation_a, local_second, result->second_moment);
 }
 
+/* A's mesh for the mesh path (poly_clip_mesh.h) against B, a mesh wall's prism; 1 when that path takes the pair.
+ * Double only: mixed precision's views hold single-precision vertices. */
+static int clip_mesh_of_d(const poly_shape_view_d *a, const poly_shape_view_d *b, poly_clip_mesh *mesh)
+{
+  mesh->num_vertices = a->num_vertices, mesh->num_triangles = a->num_triangles;
+  mesh->vertices = a->vertices, mesh->triangles = a->triangles, mesh->edges = a->edges;
+  mesh->edge_triangles = a->edge_triangles, mesh->triangle_edges = a->triangle_edges;
+  return POLY_CLIP_MESH_PATH && (POLY_CLIP_MESH_ALL || !poly_clip_takes(&a->clip)) &&
+         poly_clip_mesh_takes(mesh, &b->clip);
+}
+static int clip_mesh_of_f(const poly_shape_view_f *a, const poly_shape_view_f *b, poly_clip_mesh *mesh)
+{
+  (void)a, (void)b, (void)mesh;
+  return 0;
+}
+
 /* The clipping path (poly_clip.h) for two shapes with clip faces, in double (also for mixed precision, whose
  * contact law is in double: the clipping is cheaper than the single-precision general path and exact to double
  * rounding); 1 when it gave the answer. Single precision keeps the general path. POINTS: the workspace's nodes
@@ -147,12 +165,14 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
                                          poly_overlap_workspace##SUFFIX *ws, double *local_centroid,   \
                                          double *local_normal, poly_overlap_result *result)            \
   {                                                                                                   \
-    if (!ws->use_clip || !poly_clip_takes(&a->clip) || !poly_clip_takes(&b->clip)) return 0;          \
+    poly_clip_mesh mesh;                                                                              \
+    const int by_mesh = ws->use_clip && clip_mesh_of##SUFFIX(a, b, &mesh);                            \
+    if (!by_mesh && (!ws->use_clip || !poly_clip_takes(&a->clip) || !poly_clip_takes(&b->clip))) return 0; \
     /* The general path's slab first for pieces (an apart pair of pieces costs a projection, not every piece), \
      * and for a pair apart at its last evaluation its parting search (the general path's filters): the       \
      * clipping finds such a pair apart too, but proves no gap for skip_apart to wait on. */                  \
     const int search = ws->use_filter && ws->last_evaluation == POLY_LAST_APART;                      \
-    if (a->clip.num_pieces > 1 || b->clip.num_pieces > 1 || search) {                                 \
+    if (a->clip.num_pieces > 1 || b->clip.num_pieces > 1 || search || by_mesh) {                      \
       double separation;                                                                              \
       if (poly_slab_or_parting##SUFFIX(a, b, rotation, translation, search, &separation)) {           \
         memset(result, 0, sizeof *result);                                                            \
@@ -167,9 +187,11 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
     double *points = POINTS;                                                                          \
     poly_clip_corners corners = {points, ws->capacity_corners, 0, {0.0, 0.0, 0.0}};                   \
     poly_clip_corners *keep = points && ws->want_nodes ? &corners : NULL;                             \
-    if (!poly_clip_overlap(&a->clip, &b->clip, rotation, translation,                                 \
-                           (double)a->bounding_radius + (double)b->bounding_radius, ws->want_second_moment, &clip, \
-                           keep) ||                                                                   \
+    const double size = (double)a->bounding_radius + (double)b->bounding_radius;                      \
+    if (!(by_mesh ? poly_clip_mesh_overlap(&mesh, &b->clip, rotation, translation, size, ws->want_second_moment, \
+                                           &clip, keep)                                               \
+                  : poly_clip_overlap(&a->clip, &b->clip, rotation, translation, size, ws->want_second_moment, \
+                                      &clip, keep)) ||                                                \
         (keep && corners.count < 0)) { /* flush faces, or corners the workspace does not hold */      \
       ws->clip_fallbacks++;                                                                           \
       return 0;                                                                                       \

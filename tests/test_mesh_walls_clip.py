@@ -3,7 +3,9 @@
 inward for one of its two prisms, as over any curved or creased stretch of mesh) as the three tetrahedra of its
 split. So a particle with clip faces (convex, or in convex pieces: Schönhardt, rock_10; rock_40 by the pieces the
 walls take instead of its cones, poly_shape_wall_pieces) meets it by clipping, which keeps the intersection's corners
-for the contact's depth (ws.want_nodes, as fix wall/polyhedral asks).
+for the contact's depth (ws.want_nodes, as fix wall/polyhedral asks); any other particle of at most 1024 vertices
+(rock_70, icospheres, rock_1000) by the mesh path (src/poly_clip_mesh.h: its triangles clipped by the prism's
+pieces, the prism's faces inside it from its cross-sections by their planes).
 tests/unit/wall_clip_paths.c combines each particle's pieces into its contact with the wall
 (poly_mesh_contact_combine) by that path and by the general path (ws.use_clip = 0) and prints the worst
 differences: volume, centroid and second moment relative to the particle (as tests/test_convex_path.py's clipping
@@ -48,7 +50,8 @@ def run(driver, shape, count, flat):
 
 
 @pytest.mark.parametrize("flat", [True, False], ids=["plane", "height-field"])
-@pytest.mark.parametrize("shape", ["schoenhardt.stl", "rock_10.obj", "cube.stl", "tetrahedron.obj", "rock_40.obj"])
+@pytest.mark.parametrize("shape", ["schoenhardt.stl", "rock_10.obj", "cube.stl", "tetrahedron.obj", "rock_40.obj",
+                                   "rock_70.obj", "icosphere_320.off"])
 def test_clipped_wall_contacts_agree_with_the_general_path(driver, shape, flat):
     values, out = run(driver, shape, 300, flat)
     assert values["contacts"] >= 250, out
@@ -76,9 +79,9 @@ def test_splits_are_partitions(driver):
     assert values["split"] >= 0.8 * values["prisms"] and values["not_partitions"] == 0, out
 
 
-def test_shapes_beyond_the_clipping_path_keep_the_general_path(driver):
-    """rock_70's partition needs more planes (70) than the host's masks hold, and its cones more still: it has no
-    pieces, for pairs or for the walls (poly_shape_wall_pieces), and its wall pieces are never offered."""
-    values, out = run(driver, "rock_70.obj", 20, True)
-    assert values["clip_offered"] == 0 and values["contacts"] >= 15, out
+def test_shapes_beyond_the_mesh_path_keep_the_general_path(driver):
+    """icosphere_5120 (2562 vertices) is beyond the mesh path's buffers (1024 vertices) as well as the clipping
+    path's: its pieces are never offered to either, and the two runs are the same general path, bit for bit."""
+    values, out = run(driver, "icosphere_5120.off", 4, True)
+    assert values["clip_offered"] == 0 and values["contacts"] >= 3, out
     assert all(values[quantity] == 0.0 for quantity in TOLERANCE), out

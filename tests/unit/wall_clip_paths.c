@@ -1,5 +1,6 @@
 /* The mesh wall's narrow phase by the clipping path (prisms with clip faces: convex ones, and the others as three
- * tetrahedra; poly_clip.h, with the corners kept for the depth: ws.want_nodes) against the general path (ws.use_clip = 0), as fix wall/polyhedral combines them: each
+ * tetrahedra; poly_clip.h for particles it takes, poly_clip_mesh.h for the others, with the corners kept for the
+ * depth: ws.want_nodes) against the general path (ws.use_clip = 0), as fix wall/polyhedral combines them: each
  * particle's pieces (one per prism whose bounding sphere touches the particle's) into one contact
  * (poly_mesh_contact_combine, from the pieces' nodes). tests/test_mesh_walls_clip.py runs it.
  *
@@ -20,6 +21,7 @@
 #include <string.h>
 
 #include "poly_mesh_shell.h"
+#include "poly_clip_mesh.h"
 #include "poly_overlap.h"
 
 #define CELLS 10
@@ -223,7 +225,10 @@ int main(int argc, char **argv)
         poly_overlap_d(&view, &pose, prism_view, &prism_pose, &ws, &result);
         if (path == 0) {
           total_pieces++;
-          if (poly_clip_takes(&view.clip) && poly_clip_takes(&prism_view->clip)) {
+          /* The clipping path proper, or for a particle it does not take the mesh path (poly_clip_mesh.h). */
+          if ((poly_clip_takes(&view.clip) && poly_clip_takes(&prism_view->clip)) ||
+              (!poly_clip_takes(&view.clip) && prism_view->clip.facets &&
+               poly_clip_mesh_fits(view.num_vertices, view.num_triangles, view.triangle_edges))) {
             clip_offered++;
             clip_handed_back += ws.clip_fallbacks > fallbacks;
           }
