@@ -7,8 +7,9 @@
  * pieces of A: B's face on plane P, inside A, is bounded by A's cross-section by P (the segments where A's triangles
  * cross P) cut by the face's edges, and by the parts of the face's edges inside A; each segment is summed on its own
  * as a fan triangle, so a cross-section that is not convex (holes included) needs no bridges. So the particles the
- * clipping path does not take (rock_70, the icospheres) meet prisms 1.5-2.1x faster than by the general path
- * (doc/benchmarks.md, "Mesh walls on the CPU"); those it takes keep it, which is faster for them.
+ * clipping path does not take (rock_70, the icospheres) meet prisms 1.5-2.1x faster than by the general path, and
+ * shapes in pieces meet triangles larger than themselves faster than by their pieces (doc/benchmarks.md, "Mesh
+ * walls on the CPU"; poly_mesh_prism_view chooses).
  *
  * A vertex of A within the flush distance of a plane of B hands the pair back (returns 0), as poly_clip.h does;
  * so do crossings along a face's edges that do not alternate (a degenerate pose) and full buffers. */
@@ -17,13 +18,10 @@
 
 #include "poly_clip.h"
 
-/* Benchmarks' switches (BENCH_DEFINES): POLY_CLIP_MESH_PATH=0 turns the path off; POLY_CLIP_MESH_ALL=1 gives it the
- * particles the clipping path takes too (it is no faster for them: doc/benchmarks.md, "Mesh walls on the CPU"). */
+/* Which (particle, prism) pairs poly_mesh_prism_view gives the mesh path: 1 as it chooses, 0 none, 2 every one
+ * whose particle fits (benchmarks' switch: BENCH_DEFINES=-DPOLY_CLIP_MESH_PATH=0|2). */
 #ifndef POLY_CLIP_MESH_PATH
 #define POLY_CLIP_MESH_PATH 1
-#endif
-#ifndef POLY_CLIP_MESH_ALL
-#define POLY_CLIP_MESH_ALL 0
 #endif
 #define POLY_CLIP_MESH_MAX_VERTICES 1024
 #define POLY_CLIP_MESH_MAX_TRIANGLES 2048
@@ -46,7 +44,7 @@ POLY_INLINE int poly_clip_mesh_fits(int num_vertices, int num_triangles, const i
   return triangle_edges && num_vertices <= POLY_CLIP_MESH_MAX_VERTICES && num_triangles <= POLY_CLIP_MESH_MAX_TRIANGLES;
 }
 
-/* Does the mesh path take this pair: A fits and B's faces are its pieces' facets, of few planes? */
+/* Does the mesh path take this pair: A fits and B is a prism's mesh view (faces its pieces' facets), of few planes? */
 POLY_INLINE int poly_clip_mesh_takes(const poly_clip_mesh *a, const poly_clip_faces *b)
 {
   return b->facets && b->num_faces > 0 && b->num_planes <= POLY_CLIP_MESH_MAX_PLANES &&

@@ -514,7 +514,9 @@ static void prism_bind_clip(poly_mesh_prism *prism, int num_faces)
     if (prism->clip_plane_support[k] >= 0) clip->support_planes.low |= 1ull << k;
   clip->face_plane = prism->clip_face_plane;
   clip->many_faces = 0;
-  clip->facets = 1;  /* a convex prism's merged faces, or its split's triangles, each a whole facet of its piece */
+  clip->facets = 0;
+  prism->mesh_view = prism->clip_view;
+  prism->mesh_view.clip.facets = 1;  /* a convex prism's merged faces, or its split's triangles: whole facets */
 }
 
 /* A convex prism's faces as the clipping path takes them (as poly_convex.c's find_clip_faces does for a shape):
@@ -729,12 +731,24 @@ void poly_mesh_prism_clip_faces(poly_mesh_prism *prism)
 
 const poly_shape_view_d *poly_mesh_prism_view(poly_mesh_prism *prism, const poly_shape_view_d *particle)
 {
-  if (!poly_clip_takes(&particle->clip) &&
-      !(POLY_CLIP_MESH_PATH && poly_clip_mesh_fits(particle->num_vertices, particle->num_triangles,
-                                                   particle->triangle_edges)))
-    return &prism->view;
+  const int clips = poly_clip_takes(&particle->clip);
+  const int meshes = POLY_CLIP_MESH_PATH &&
+                     poly_clip_mesh_fits(particle->num_vertices, particle->num_triangles, particle->triangle_edges);
+  if (!clips && !meshes) return &prism->view;
   poly_mesh_prism_clip_faces(prism);
-  return prism->clip_view.clip.num_faces > 0 ? &prism->clip_view : &prism->view;
+  if (prism->clip_view.clip.num_faces == 0) return &prism->view;
+  if (!meshes) return &prism->clip_view;
+  if (!clips || POLY_CLIP_MESH_PATH == 2 || particle->clip.many_faces) return &prism->mesh_view;
+  if (particle->clip.num_pieces == 1) return &prism->clip_view;
+  /* Shapes in pieces: the mesh path where the triangle is larger than the particle (the top's corners 0-2). */
+  double longest2 = 0.0;
+  for (int c = 0; c < 3; c++) {
+    const double *u = prism->vertices + 3 * c, *v = prism->vertices + 3 * ((c + 1) % 3);
+    const double d2 = (v[0] - u[0]) * (v[0] - u[0]) + (v[1] - u[1]) * (v[1] - u[1]) + (v[2] - u[2]) * (v[2] - u[2]);
+    longest2 = d2 > longest2 ? d2 : longest2;
+  }
+  const double reach = 3.0 * particle->bounding_radius;
+  return longest2 >= reach * reach ? &prism->mesh_view : &prism->clip_view;
 }
 
 int poly_mesh_shell_prism(const poly_mesh_shell *shell, int triangle, const double nodes[3][3],

@@ -129,6 +129,7 @@ typedef struct poly_mesh_prism {
   /* Both views point into the prism (use it where it was made: a copy's would point into the original). */
   poly_shape_view_d view;       /* without clip faces: the blocks or general path */
   poly_shape_view_d clip_view;  /* the same with them, once made (clip.num_faces 0 until then, or without) */
+  poly_shape_view_d mesh_view;  /* clip_view for the mesh path (poly_clip_mesh.h: clip.facets 1) */
 } poly_mesh_prism;
 
 /* The prism's faces for the clipping path (into clip_view; none for a prism whose side diagonals run in a cycle
@@ -136,10 +137,13 @@ typedef struct poly_mesh_prism {
  * third as much again (0.2 us). */
 void poly_mesh_prism_clip_faces(poly_mesh_prism *prism);
 
-/* The view of the prism that `particle` meets it by (fix wall/polyhedral): with clip faces (made the first time)
- * when the host's clipping path takes the particle (convex shapes of few faces, and shapes in convex pieces:
- * against prisms 1.3-1.4x faster than the blocks and general paths, doc/benchmarks.md), else without, whatever
- * other particles made, so that its result does not depend on its neighbours. */
+/* The view of the prism that `particle` meets it by (fix wall/polyhedral), with clip faces (made the first time)
+ * where a clipping path takes the pair: mesh_view (the mesh path, poly_clip_mesh.h) for a particle the host's
+ * clipping path does not take (rock_70, icospheres), for the mesh walls' pieces (rock_40) and, for other shapes
+ * in pieces (Schönhardt, rock_10), when the prism's triangle has an edge of at least 3 of the particle's bounding
+ * radii; clip_view (poly_clip.h) for the rest: convex particles and shapes in pieces against a finer mesh, which
+ * it clips faster (doc/benchmarks.md, "Mesh walls on the CPU"). Else the view without clip faces. The choice
+ * depends on the particle and the prism alone, not on what other particles made. */
 const poly_shape_view_d *poly_mesh_prism_view(poly_mesh_prism *prism, const poly_shape_view_d *particle);
 
 /* The prism of global triangle `triangle` whose current corners are `nodes`

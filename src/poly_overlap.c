@@ -139,15 +139,15 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
   poly_second_moment_rotate(rotation_a, local_second, result->second_moment);
 }
 
-/* A's mesh for the mesh path (poly_clip_mesh.h) against B, a mesh wall's prism; 1 when that path takes the pair.
+/* A's mesh for the mesh path (poly_clip_mesh.h) against B, a mesh wall's prism in its mesh view
+ * (poly_mesh_prism_view); 1 when that path takes the pair.
  * Double only: mixed precision's views hold single-precision vertices. */
 static int clip_mesh_of_d(const poly_shape_view_d *a, const poly_shape_view_d *b, poly_clip_mesh *mesh)
 {
   mesh->num_vertices = a->num_vertices, mesh->num_triangles = a->num_triangles;
   mesh->vertices = a->vertices, mesh->triangles = a->triangles, mesh->edges = a->edges;
   mesh->edge_triangles = a->edge_triangles, mesh->triangle_edges = a->triangle_edges;
-  return POLY_CLIP_MESH_PATH && (POLY_CLIP_MESH_ALL || !poly_clip_takes(&a->clip)) &&
-         poly_clip_mesh_takes(mesh, &b->clip);
+  return poly_clip_mesh_takes(mesh, &b->clip);
 }
 static int clip_mesh_of_f(const poly_shape_view_f *a, const poly_shape_view_f *b, poly_clip_mesh *mesh)
 {

@@ -16,7 +16,8 @@ diagonals run in a cycle has no such split and keeps the general path, and so do
 tetrahedron turned inside out, which the prism's certification can pass: test_splits_are_partitions). The
 host's workspace holds the clipping path's corners (capacity_corners, 256), more than the general path's nodes (92
 for Schönhardt against a prism, as on the GPU): with only those, 3.0 % of Schönhardt's pieces over the height field
-were handed to the general path."""
+were handed to the general path. Each shape the clipping path takes runs both ways (the prisms' clip views and
+their mesh views: fix wall/polyhedral takes either, by the triangle's size), the others by the mesh path."""
 import os
 import re
 import shutil
@@ -42,18 +43,20 @@ def driver(tmp_path_factory):
     return binary
 
 
-def run(driver, shape, count, flat):
-    out = subprocess.run([driver, os.path.join(SHAPES, shape), str(count)] + (["flat"] if flat else []),
-                         capture_output=True, text=True, check=True).stdout
+def run(driver, shape, count, flat, mesh=False):
+    out = subprocess.run([driver, os.path.join(SHAPES, shape), str(count)] + (["flat"] if flat else []) +
+                         (["mesh"] if mesh else []), capture_output=True, text=True, check=True).stdout
     values = {key: float(value) for key, value in re.findall(r"([a-z_]+) ([-0-9.e+]+)", out)}
     return values, out
 
 
 @pytest.mark.parametrize("flat", [True, False], ids=["plane", "height-field"])
-@pytest.mark.parametrize("shape", ["schoenhardt.stl", "rock_10.obj", "cube.stl", "tetrahedron.obj", "rock_40.obj",
-                                   "rock_70.obj", "icosphere_320.off"])
-def test_clipped_wall_contacts_agree_with_the_general_path(driver, shape, flat):
-    values, out = run(driver, shape, 300, flat)
+@pytest.mark.parametrize("shape, mesh", [(shape, False) for shape in ("schoenhardt.stl", "rock_10.obj", "cube.stl",
+                                                                      "tetrahedron.obj", "rock_40.obj")] +
+                         [(shape, True) for shape in ("schoenhardt.stl", "rock_10.obj", "cube.stl", "rock_40.obj",
+                                                      "rock_70.obj", "icosphere_320.off")])
+def test_clipped_wall_contacts_agree_with_the_general_path(driver, shape, mesh, flat):
+    values, out = run(driver, shape, 300, flat, mesh)
     assert values["contacts"] >= 250, out
     for quantity, limit in TOLERANCE.items():
         assert values[quantity] <= limit, f"{quantity} differs by {values[quantity]:g} (limit {limit:g})\n{out}"
@@ -82,6 +85,6 @@ def test_splits_are_partitions(driver):
 def test_shapes_beyond_the_mesh_path_keep_the_general_path(driver):
     """icosphere_5120 (2562 vertices) is beyond the mesh path's buffers (1024 vertices) as well as the clipping
     path's: its pieces are never offered to either, and the two runs are the same general path, bit for bit."""
-    values, out = run(driver, "icosphere_5120.off", 4, True)
+    values, out = run(driver, "icosphere_5120.off", 4, True, mesh=True)
     assert values["clip_offered"] == 0 and values["contacts"] >= 3, out
     assert all(values[quantity] == 0.0 for quantity in TOLERANCE), out

@@ -1,9 +1,11 @@
 /* CPU cost of fix wall/polyhedral's mesh narrow phase: (particle, prism) pieces per second on one core.
  *
- *   bash tools/bench_mesh_pieces.sh [particles] [repeats] [shape]     (builds this file and runs it)
- *   bench_mesh_pieces SHAPES_DIR [particles] [repeats] [shape]
+ *   bash tools/bench_mesh_pieces.sh [particles] [repeats] [shape] [cells]     (builds this file and runs it)
+ *   bench_mesh_pieces SHAPES_DIR [particles] [repeats] [shape] [cells]
  *
- * `shape`: one file of the list (e.g. rock_40.obj) alone, for a profile of its pieces.
+ * `shape`: one file of the list (e.g. rock_40.obj) alone, for a profile of its pieces; `all` (the default) every
+ * one. `cells` (default 12): the grid's cells a side, so its triangles' legs are 6 / cells bounding radii (2:
+ * triangles larger than the particle, as a hopper's or a chute's CAD mesh has them).
  *
  * The scene of tests/unit/gpu_wall_agreement.cpp, so the figures compare with doc/benchmarks.md's
  * "Mesh walls on the GPU" CPU column: per shape (scale 0.01), a 12 x 12 grid of 6 bounding radii with a
@@ -76,7 +78,12 @@ int main(int argc, char **argv)
   int num_particles = argc > 2 ? atoi(argv[2]) : 2000, repeats = argc > 3 ? atoi(argv[3]) : 5;
   printf("| shape | pieces | touching | pieces/s (double, one core) | prism (us) | its clip faces (us) |\n"
          "|---|---:|---:|---:|---:|---:|\n");
-  const char *only = argc > 4 ? argv[4] : NULL;
+  const char *only = argc > 4 && strcmp(argv[4], "all") != 0 ? argv[4] : NULL;
+  const int cells = argc > 5 ? atoi(argv[5]) : 12;
+  if (cells < 1) {
+    fprintf(stderr, "cells must be at least 1\n");
+    return 2;
+  }
   int found = 0;
   for (int s = 0; s < NUM_SHAPES; s++) {
     if (only && strcmp(only, SHAPE_FILES[s]) != 0) continue;
@@ -90,7 +97,6 @@ int main(int argc, char **argv)
     }
     double radius = shape.bounding_radius;
     /* The grid, counter-clockwise seen from +z (the free side). */
-    const int cells = 12;
     double width = 6.0 * radius, step = width / cells;
     int num_triangles = 2 * cells * cells;
     double *corners = malloc(sizeof(double) * 9 * (size_t)num_triangles);

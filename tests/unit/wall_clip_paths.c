@@ -1,10 +1,11 @@
 /* The mesh wall's narrow phase by the clipping path (prisms with clip faces: convex ones, and the others as three
- * tetrahedra; poly_clip.h for particles it takes, poly_clip_mesh.h for the others, with the corners kept for the
+ * tetrahedra; poly_clip.h through the prisms' clip views, or with `mesh` poly_clip_mesh.h through their mesh views,
+ * with the corners kept for the
  * depth: ws.want_nodes) against the general path (ws.use_clip = 0), as fix wall/polyhedral combines them: each
  * particle's pieces (one per prism whose bounding sphere touches the particle's) into one contact
  * (poly_mesh_contact_combine, from the pieces' nodes). tests/test_mesh_walls_clip.py runs it.
  *
- *   wall_clip_paths SHAPE_FILE COUNT [flat]
+ *   wall_clip_paths SHAPE_FILE COUNT [flat] [mesh]
  *   wall_clip_paths splits SEEDS
  *
  * The wall: a 10 x 10 height field of 5 bounding radii (random heights up to 0.6 radii: creases of both signs,
@@ -141,11 +142,16 @@ static int check_splits(int seeds)
 int main(int argc, char **argv)
 {
   if (argc < 3) {
-    fprintf(stderr, "usage: wall_clip_paths SHAPE_FILE COUNT [flat]\n");
+    fprintf(stderr, "usage: wall_clip_paths SHAPE_FILE COUNT [flat] [mesh]\n");
     return 2;
   }
   if (!strcmp(argv[1], "splits")) return check_splits(atoi(argv[2]));
-  const int count = atoi(argv[2]), flat = argc > 3 && !strcmp(argv[3], "flat");
+  int flat = 0, by_mesh = 0;  /* the prisms' mesh views (the mesh path, poly_clip_mesh.h), else their clip views */
+  for (int i = 3; i < argc; i++) {
+    flat |= !strcmp(argv[i], "flat");
+    by_mesh |= !strcmp(argv[i], "mesh");
+  }
+  const int count = atoi(argv[2]);
   poly_shape shape;
   char message[512];
   if (poly_shape_load(argv[1], 0.01, &shape, message, sizeof message) != POLY_OK) {
@@ -221,14 +227,15 @@ int main(int argc, char **argv)
         const int fallbacks = ws.clip_fallbacks;
         poly_overlap_result result;
         /* The path under test: the prism's clip faces (when it has them) for every particle. */
-        const poly_shape_view_d *prism_view = prism->clip_view.clip.num_faces > 0 ? &prism->clip_view : &prism->view;
+        const poly_shape_view_d *prism_view = prism->clip_view.clip.num_faces == 0 ? &prism->view
+                                              : by_mesh                           ? &prism->mesh_view
+                                                                                  : &prism->clip_view;
         poly_overlap_d(&view, &pose, prism_view, &prism_pose, &ws, &result);
         if (path == 0) {
           total_pieces++;
-          /* The clipping path proper, or for a particle it does not take the mesh path (poly_clip_mesh.h). */
-          if ((poly_clip_takes(&view.clip) && poly_clip_takes(&prism_view->clip)) ||
-              (!poly_clip_takes(&view.clip) && prism_view->clip.facets &&
-               poly_clip_mesh_fits(view.num_vertices, view.num_triangles, view.triangle_edges))) {
+          /* The clipping path proper, or the mesh path (poly_clip_mesh.h). */
+          if (prism_view->clip.facets ? poly_clip_mesh_fits(view.num_vertices, view.num_triangles, view.triangle_edges)
+                                      : poly_clip_takes(&view.clip) && poly_clip_takes(&prism_view->clip)) {
             clip_offered++;
             clip_handed_back += ws.clip_fallbacks > fallbacks;
           }
