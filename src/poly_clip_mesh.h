@@ -93,16 +93,13 @@ POLY_INLINE void poly_clip_mesh_keep_point(poly_clip_accumulator *acc, const dou
 }
 
 /* One boundary segment (s to e) of B's face inside A, as the fan triangle from the face's point `c` (all relative to
- * the reference): the same sums as poly_clip_add_polygon's fans (B's side: no area). */
+ * the reference), summed as poly_clip_add_polygon sums a triangle (B's side: no area). */
 POLY_INLINE void poly_clip_mesh_add_segment(poly_clip_accumulator *acc, const double *c, const double *s,
                                             const double *e)
 {
   if (acc->depth_pass) return;
-  const double det = c[0] * (s[1] * e[2] - s[2] * e[1]) - c[1] * (s[0] * e[2] - s[2] * e[0]) +
-                     c[2] * (s[0] * e[1] - s[1] * e[0]);
-  acc->sums.volume6 += det;
-  for (int k = 0; k < 3; k++) acc->sums.moment24[k] += det * (c[k] + s[k] + e[k]);
-  if (acc->sums.want_second) poly_second_moment_add(acc->sums.second120, det, c, s, e);
+  const double fan[9] = {c[0], c[1], c[2], s[0], s[1], s[2], e[0], e[1], e[2]};
+  poly_clip_add_polygon(fan, 3, 0, &acc->sums);
 }
 
 /* Per triangle of A, its corners' sides of B's planes: the planes some corner is in front of and all are, and
@@ -122,9 +119,9 @@ POLY_INLINE void poly_clip_mesh_cut(const poly_clip_mesh *a, int t, int k, const
   poly_clip_mesh_crossing(a, flip ? from : to, plane, e);
 }
 
-/* Twice the winding number about point `p` (on the plane of unit normal `normal`) of segment s-e of a closed curve in
- * it, in the plane's projection on the coordinate plane its normal is most along (its sign may flip: only whether
- * the sum is 0 counts). */
+/* What segment s-e of a closed curve in the plane of unit normal `normal` adds to the curve's winding number about
+ * point `p` on it (crossings of a ray from p), in the plane's projection on the coordinate plane its normal is most
+ * along (the sign may flip: only whether the sum is 0 counts). */
 POLY_INLINE int poly_clip_mesh_winding(const double *s, const double *e, const double *normal, const double *p)
 {
   const double ax = fabs(normal[0]), ay = fabs(normal[1]), az = fabs(normal[2]);

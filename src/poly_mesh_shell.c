@@ -484,8 +484,8 @@ static int prism_add_triangle(int *triangles, int count, int a, int b, int c)
 /* The prism's supporting triangles (every corner on or behind the plane, to 1e-12 of its size: the
  * separation test of the overlap) and, when all 8 support it (a convex prism: side quads planar or folded
  * outwards, as over a flat or convex stretch of wall), its faces (coplanar triangles merged) and ridges, so
- * that a convex particle the clipping path does not take (an icosphere) and it take the convex path. Otherwise the general path (a side quad folded inwards
- * makes the prism non-convex). */
+ * that a convex particle no clipping path takes and it take the convex path. Otherwise the general path (a side
+ * quad folded inwards makes the prism non-convex). */
 /* clip_view: the view with its clip pointing at the prism's own clip arrays (num_faces faces found by
  * prism_clip_faces or prism_clip_tetrahedra; their other counts in the prism). */
 static void prism_bind_clip(poly_mesh_prism *prism, int num_faces)

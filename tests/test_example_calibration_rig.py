@@ -30,7 +30,7 @@ make_hopper = load("make_hopper", ROOT / "examples" / "hopper")   # its normal()
 
 N = 60
 SETTLE = 0.25
-FLOW = 0.45
+FLOW = 0.55   # long enough for the heap to come to rest (test_smoke_angle_and_energy_are_sane)
 
 
 @pytest.mark.parametrize("angle", [20.0, 37.0, 50.0])
@@ -129,8 +129,10 @@ def test_smoke_angle_and_energy_are_sane(rig_run):
     assert math.isfinite(r["angle"]) and 10.0 < r["angle"] < 70.0, r["angle"]
     # The fitted sigmoid falls away from the back wall (a, c > 0); its midpoint b may lie behind the wall, which
     # report.py handles (a heap with no plateau: the slope is taken at the map's end). A heap of 60 rocks is
-    # chaotic: with the rocking damping this seed gives b = -0.06 (21 deg) and seeds 2 and 3 b = 0.031 and 0.026
-    # (19 and 28 deg); without it 0.028, 0.027 and 0.043 (31, 20 and 19 deg).
+    # chaotic: rounding-level changes of a contact give another heap (this seed: 15 deg, b = 0.037 before the mesh
+    # walls' mesh path, 14 deg and b = 0.017 with it). With a flow of 0.45 s the last tenth's energy was 0.008 to
+    # 0.021 of the peak over seeds 1-4 of either build (a last rock still rolling: the criterion's 0.02 inside
+    # that scatter); at 0.55 s it is 0.0004-0.0009, both builds.
     assert r["b"] < 0.15 and r["a"] > 0.0 and r["c"] > 0.0
     assert r["ke_flow"] > 10 * r["ke_end"] and r["ke_last_tenth"] < 0.02 * r["ke_max"]
     assert "| rock_10_" in stdout and (out / "calibration_rig_resolution.png").stat().st_size > 10000

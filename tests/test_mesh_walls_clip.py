@@ -88,3 +88,42 @@ def test_shapes_beyond_the_mesh_path_keep_the_general_path(driver):
     values, out = run(driver, "icosphere_5120.off", 4, True, mesh=True)
     assert values["clip_offered"] == 0 and values["contacts"] >= 3, out
     assert all(values[quantity] == 0.0 for quantity in TOLERANCE), out
+
+
+@pytest.fixture(scope="module")
+def cases_driver(tmp_path_factory):
+    if not shutil.which("gcc"):
+        pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
+    binary = str(tmp_path_factory.mktemp("mesh_path") / "mesh_path_cases")
+    sources = [os.path.join(ROOT, "tests", "unit", "mesh_path_cases.c")] + [
+        os.path.join(ROOT, "src", name)
+        for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c", "poly_mesh_shell.c")]
+    subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-I" + os.path.join(ROOT, "src")] +
+                   sources + ["-lm", "-o", binary], check=True)
+    out = subprocess.run([binary, SHAPES], capture_output=True, text=True, check=True).stdout
+    cases = {}
+    for line in out.splitlines():
+        fields = line.split()
+        cases[fields[1]] = {key: float(value) for key, value in zip(fields[2::2], fields[3::2])}
+    return cases, out
+
+
+def test_mesh_path_hard_cases(cases_driver):
+    """The mesh path (src/poly_clip_mesh.h) on its own hard cases (tests/unit/mesh_path_cases.c), against the
+    general path: a prism wholly inside an icosphere (no cross-section meets a face's edge, so each face is decided
+    by the winding about its corner) gives the prism's own volume and centroid; an icosphere resting with a vertex
+    on the triangle's plane is handed back (flush) and so is the general path's to the bit; rock_70 1e4 particle
+    sizes from the origin and at scales 1e-6 and 1e3 agrees with the general path as in the random poses, and the
+    two scales give the same relative volume."""
+    cases, out = cases_driver
+    inside = cases["inside"]
+    assert inside["clipped"] == 1, out
+    assert abs(inside["mesh"] - inside["exact"]) <= 1e-13 * inside["exact"], out
+    assert inside["exact_centroid"] <= 1e-13 and inside["volume"] <= 1e-13, out
+    flush = cases["flush"]
+    assert flush["clipped"] == 0 and flush["volume"] == flush["centroid"] == flush["depth"] == 0.0, out
+    for name in ("far", "tiny", "huge"):
+        case = cases[name]
+        assert case["clipped"] == 1 and case["mesh"] > 0.01, out
+        assert max(case["volume"], case["centroid"], case["depth"]) <= 1e-13, out
+    assert abs(cases["tiny"]["mesh"] - cases["huge"]["mesh"]) <= 1e-12 * cases["huge"]["mesh"], out
