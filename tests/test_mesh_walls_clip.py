@@ -30,17 +30,22 @@ SHAPES = os.path.join(ROOT, "examples", "shapes")
 TOLERANCE = {"volume": 1e-13, "centroid": 1e-13, "normal": 1e-13, "depth": 1e-13, "second": 1e-13}
 
 
-@pytest.fixture(scope="module")
-def driver(tmp_path_factory):
+def build_unit(tmp_path_factory, name):
+    """tests/unit/NAME.c with the C core, built into a temporary directory."""
     if not shutil.which("gcc"):
         pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
-    binary = str(tmp_path_factory.mktemp("wall_clip") / "wall_clip_paths")
-    sources = [os.path.join(ROOT, "tests", "unit", "wall_clip_paths.c")] + [
-        os.path.join(ROOT, "src", name)
-        for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c", "poly_mesh_shell.c")]
+    binary = str(tmp_path_factory.mktemp(name) / name)
+    sources = [os.path.join(ROOT, "tests", "unit", name + ".c")] + [
+        os.path.join(ROOT, "src", source)
+        for source in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c", "poly_mesh_shell.c")]
     subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-I" + os.path.join(ROOT, "src")] +
                    sources + ["-lm", "-o", binary], check=True)
     return binary
+
+
+@pytest.fixture(scope="module")
+def driver(tmp_path_factory):
+    return build_unit(tmp_path_factory, "wall_clip_paths")
 
 
 def run(driver, shape, count, flat, mesh=False):
@@ -92,14 +97,7 @@ def test_shapes_beyond_the_mesh_path_keep_the_general_path(driver):
 
 @pytest.fixture(scope="module")
 def cases_driver(tmp_path_factory):
-    if not shutil.which("gcc"):
-        pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
-    binary = str(tmp_path_factory.mktemp("mesh_path") / "mesh_path_cases")
-    sources = [os.path.join(ROOT, "tests", "unit", "mesh_path_cases.c")] + [
-        os.path.join(ROOT, "src", name)
-        for name in ("poly_overlap.c", "poly_shape.c", "poly_mesh_read.c", "poly_convex.c", "poly_mesh_shell.c")]
-    subprocess.run(["gcc", "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-I" + os.path.join(ROOT, "src")] +
-                   sources + ["-lm", "-o", binary], check=True)
+    binary = build_unit(tmp_path_factory, "mesh_path_cases")
     out = subprocess.run([binary, SHAPES], capture_output=True, text=True, check=True).stdout
     cases = {}
     for line in out.splitlines():
