@@ -25,7 +25,7 @@
 #endif
 #define POLY_CLIP_MESH_MAX_VERTICES 1024
 #define POLY_CLIP_MESH_MAX_TRIANGLES 2048
-#define POLY_CLIP_MESH_MAX_PLANES 16 /* B's planes: a prism's 5, or its split's 10 */
+#define POLY_CLIP_MESH_MAX_PLANES POLY_CLIP_MAX_PLANES /* B's planes (a prism's 5, or its split's 10): side masks */
 #define POLY_CLIP_MESH_MAX_THROUGH 128  /* places where A's cross-section crosses one face's edges */
 
 /* A closed, consistently wound triangle mesh in its body frame (the particle's view). */
@@ -184,7 +184,7 @@ POLY_INLINE int poly_clip_mesh_face(const poly_clip_mesh *a, const poly_clip_fac
     const double d[3] = {v[0] - u[0], v[1] - u[1], v[2] - u[2]};
     poly_cross3_d(d, normal, outward + 3 * c);
   }
-  double origin[3];
+  double origin[3] = {0.0, 0.0, 0.0};
   int have_origin = 0;
   /* (1) The cross-section's segments inside the face. */
   for (int i = 0; i < num_crossing; i++) {
@@ -330,18 +330,14 @@ POLY_INLINE int poly_clip_mesh_overlap(const poly_clip_mesh *a, const poly_clip_
     poly_matrix_apply(rotation, b->planes + 4 * f, plane);
     plane[3] = b->planes[4 * f + 3] + plane[0] * translation[0] + plane[1] * translation[1] + plane[2] * translation[2];
   }
-  unsigned all_ahead = ~0u, all_behind = ~0u, any_ahead = 0u, any_behind = 0u;
+  /* Every vertex's sides (poly_clip_sides: two planes at a time on a core); none is on a plane, so behind is the
+   * rest. */
+  unsigned all_ahead, all_behind = ~0u, any_ahead = 0u, any_behind = 0u;
+  if (!poly_clip_sides(a->vertices, a->num_vertices, planes, num_planes, flush, ahead, &all_ahead)) return 0;
+  const unsigned valid = (1u << num_planes) - 1u;
   for (int v = 0; v < a->num_vertices; v++) {
-    const double *x = a->vertices + 3 * v;
-    unsigned front = 0u, back = 0u;
-    for (int k = 0; k < num_planes; k++) {
-      const double side = poly_clip_side(planes + 4 * k, x);
-      if (fabs(side) <= flush) return 0;
-      front |= (unsigned)(side > 0.0) << k;
-      back |= (unsigned)(side < 0.0) << k;
-    }
-    ahead[v] = front, behind[v] = back;
-    all_ahead &= front, all_behind &= back, any_ahead |= front, any_behind |= back;
+    behind[v] = valid & ~ahead[v];
+    all_behind &= behind[v], any_ahead |= ahead[v], any_behind |= behind[v];
   }
   const unsigned supporting = (unsigned)poly_clip_mask_of(&b->support_planes);
   if (all_ahead & supporting) {
