@@ -109,7 +109,8 @@ def cases_driver(tmp_path_factory):
 def test_mesh_path_hard_cases(cases_driver):
     """The mesh path (src/poly_clip_mesh.h) on its own hard cases (tests/unit/mesh_path_cases.c), against the
     general path: a prism wholly inside an icosphere (no cross-section meets a face's edge, so each face is decided
-    by the winding about its corner) gives the prism's own volume and centroid; an icosphere resting with a vertex
+    by the winding about its corner) gives the prism's own volume and centroid, and rock_70 wholly inside a large
+    prism (no face's plane crosses it) its own; an icosphere resting with a vertex
     on the triangle's plane is handed back (flush) and so is the general path's to the bit; rock_70 1e4 particle
     sizes from the origin and at scales 1e-6 and 1e3 agrees with the general path as in the random poses, and the
     two scales give the same relative volume."""
@@ -118,6 +119,9 @@ def test_mesh_path_hard_cases(cases_driver):
     assert inside["clipped"] == 1, out
     assert abs(inside["mesh"] - inside["exact"]) <= 1e-13 * inside["exact"], out
     assert inside["exact_centroid"] <= 1e-13 and inside["volume"] <= 1e-13, out
+    engulfed = cases["engulfed"]
+    assert engulfed["clipped"] == 1 and abs(engulfed["mesh"] - 1.0) <= 1e-13, out
+    assert engulfed["exact_centroid"] <= 1e-13 and engulfed["volume"] <= 1e-13, out
     flush = cases["flush"]
     assert flush["clipped"] == 0 and flush["volume"] == flush["centroid"] == flush["depth"] == 0.0, out
     for name in ("far", "tiny", "huge"):

@@ -11,6 +11,8 @@
  *
  * inside:  a small prism wholly inside an icosphere: no cross-section meets a face's edge, so each face is decided
  *          by the cross-section's winding about its corner; the overlap is the prism itself.
+ * engulfed: rock_70 wholly inside a large prism: no face's plane crosses it, its whole surface is inside; the
+ *          overlap is the particle.
  * flush:   an icosphere resting on a flat triangle with its lowest vertex on the triangle's plane: handed back.
  * far:     rock_70 into a wall 1e4 particle sizes from the origin.
  * tiny, huge: the same at scales 1e-6 and 1e3. */
@@ -30,7 +32,7 @@ typedef struct mesh_case {
   double centre[3];     /* the particle's, in radii */
   double offset;        /* added to every coordinate (world units) */
   int rest;             /* 1: the particle's lowest vertex on the triangle's plane z = 0 (centre[2] ignored) */
-  int exact;            /* 1: the overlap is the whole prism */
+  int exact;            /* 1: the overlap is the whole prism, 2: the whole particle */
 } mesh_case;
 
 static double worst(double current, double difference) { return difference > current ? difference : current; }
@@ -103,7 +105,11 @@ static int run_case(const char *shapes, const mesh_case *c)
   }
   const double vp = shape.volume, scale = fmax(result[1].volume, 1e-3 * vp);
   double exact = -1.0, exact_centroid[3] = {0.0, 0.0, 0.0}, centroid_error = 0.0;
-  if (c->exact) exact = prism_volume(&prism, exact_centroid) / vp;
+  if (c->exact == 1) exact = prism_volume(&prism, exact_centroid) / vp;
+  if (c->exact == 2) { /* the particle, centred on its centre of mass */
+    exact = 1.0;
+    for (int k = 0; k < 3; k++) exact_centroid[k] = pose.position[k];
+  }
   double d_volume = fabs(result[0].volume - result[1].volume) / scale, d_centroid = 0.0;
   for (int k = 0; k < 3; k++) {
     d_centroid = worst(d_centroid, fabs(result[0].centroid[k] - result[1].centroid[k]) / r);
@@ -127,8 +133,10 @@ int main(int argc, char **argv)
   }
   const double small[9] = {-0.13, -0.07, 0.0, 0.11, -0.09, 0.0, -0.08, 0.12, 0.0}; /* off the icosphere's symmetries */
   const double floor[9] = {-3.0, -3.0, 0.0, 3.0, -3.0, 0.0, -3.0, 3.0, 0.0};
+  const double big[9] = {-6.0, -5.0, 0.0, 7.0, -4.0, 0.0, -5.0, 6.5, 0.0};
   const mesh_case cases[] = {
       {"inside", "icosphere_320.off", 1.0, {0}, 0.2, {0.0, 0.0, -0.05}, 0.0, 0, 1},
+      {"engulfed", "rock_70.obj", 0.01, {0}, 5.0, {0.3, -0.2, -2.5}, 0.0, 0, 2},
       {"flush", "icosphere_80.off", 1.0, {0}, 2.2, {0.0, 0.0, 0.0}, 0.0, 1, 0},
       {"far", "rock_70.obj", 0.01, {0}, 2.2, {-1.0, -1.0, 0.3}, 1e4 * 0.01, 0, 0},
       {"tiny", "rock_70.obj", 1e-6, {0}, 2.2, {-1.0, -1.0, 0.3}, 0.0, 0, 0},
@@ -136,7 +144,7 @@ int main(int argc, char **argv)
   };
   for (int i = 0; i < (int)(sizeof cases / sizeof cases[0]); i++) {
     mesh_case c = cases[i];
-    memcpy(c.triangle, i == 0 ? small : floor, sizeof c.triangle);
+    memcpy(c.triangle, i == 0 ? small : i == 1 ? big : floor, sizeof c.triangle);
     if (run_case(argv[1], &c)) return 1;
   }
   return 0;
