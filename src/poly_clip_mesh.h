@@ -17,6 +17,7 @@
 #define POLY_CLIP_MESH_H
 
 #include "poly_clip.h"
+#include "poly_overlap.h"
 
 /* Which (particle, prism) pairs poly_mesh_prism_view gives the mesh path: 1 as it chooses, 0 none, 2 every one
  * whose particle fits (benchmarks' switch: BENCH_DEFINES=-DPOLY_CLIP_MESH_PATH=0|2). */
@@ -28,32 +29,25 @@
 #define POLY_CLIP_MESH_MAX_PLANES POLY_CLIP_MAX_PLANES /* B's planes (a prism's 5, or its split's 10): side masks */
 #define POLY_CLIP_MESH_MAX_THROUGH 128  /* places where A's cross-section crosses one face's edges */
 
-/* A closed, consistently wound triangle mesh in its body frame (the particle's view). */
-typedef struct poly_clip_mesh {
-  int num_vertices, num_triangles;
-  const double *vertices;
-  const int *triangles;       /* 3 per triangle, counter-clockwise seen from outside */
-  const int *edges;           /* 2 per edge, first < second */
-  const int *edge_triangles;  /* 2 per edge: the triangles on either side */
-  const int *triangle_edges;  /* 3 per triangle: the edges of corners 0-1, 1-2, 2-0 */
-} poly_clip_mesh;
+/* A is the particle's double-precision view (poly_shape_view_d): its body-frame vertices, triangles (counter-clockwise
+ * seen from outside), edges and the triangles on either side of each, and each triangle's edges. */
 
 /* Does the mesh path take mesh A (small enough for the buffers, its edges known) against such a B? */
-POLY_INLINE int poly_clip_mesh_fits(int num_vertices, int num_triangles, const int *triangle_edges)
+POLY_INLINE int poly_clip_mesh_fits(const poly_shape_view_d *a)
 {
-  return triangle_edges && num_vertices <= POLY_CLIP_MESH_MAX_VERTICES && num_triangles <= POLY_CLIP_MESH_MAX_TRIANGLES;
+  return a->triangle_edges && a->num_vertices <= POLY_CLIP_MESH_MAX_VERTICES &&
+         a->num_triangles <= POLY_CLIP_MESH_MAX_TRIANGLES;
 }
 
 /* Does the mesh path take this pair: A fits and B is a prism's mesh view (faces its pieces' facets), of few planes? */
-POLY_INLINE int poly_clip_mesh_takes(const poly_clip_mesh *a, const poly_clip_faces *b)
+POLY_INLINE int poly_clip_mesh_takes(const poly_shape_view_d *a, const poly_clip_faces *b)
 {
   return b->facets && b->num_faces > 0 && b->num_planes <= POLY_CLIP_MESH_MAX_PLANES &&
-         b->num_vertices <= POLY_CLIP_MAX_VERTICES &&
-         poly_clip_mesh_fits(a->num_vertices, a->num_triangles, a->triangle_edges);
+         b->num_vertices <= POLY_CLIP_MAX_VERTICES && poly_clip_mesh_fits(a);
 }
 
 /* The point where A's edge `e` crosses `plane`, from its lower end (the same point from either triangle). */
-POLY_INLINE void poly_clip_mesh_crossing(const poly_clip_mesh *a, int e, const double *plane, double *point)
+POLY_INLINE void poly_clip_mesh_crossing(const poly_shape_view_d *a, int e, const double *plane, double *point)
 {
   const double *p = a->vertices + 3 * a->edges[2 * e], *q = a->vertices + 3 * a->edges[2 * e + 1];
   const double sp = poly_clip_side(plane, p), sq = poly_clip_side(plane, q), t = sp / (sp - sq);
@@ -63,7 +57,7 @@ POLY_INLINE void poly_clip_mesh_crossing(const poly_clip_mesh *a, int e, const d
 /* The edges of A's triangle `t` (crossing plane `bit`) its segment in the plane runs from and to, A's inside on its
  * left seen from the plane's front (so that the cross-section winds counter-clockwise about the plane's normal):
  * from the edge leaving a corner alone in front to the one entering it, the other way round for one alone behind. */
-POLY_INLINE void poly_clip_mesh_segment(const poly_clip_mesh *a, int t, int bit, const unsigned *ahead, int *from,
+POLY_INLINE void poly_clip_mesh_segment(const poly_shape_view_d *a, int t, int bit, const unsigned *ahead, int *from,
                                         int *to)
 {
   const int *corner = a->triangles + 3 * t, *edge = a->triangle_edges + 3 * t;
@@ -110,7 +104,7 @@ typedef struct poly_clip_mesh_sides {
 
 /* The segment where A's triangle `t` crosses plane `k`, A's inside on its left seen from the plane's front (reversed
  * with `flip`): its ends are the crossings of the triangle's edges, the same bits from either triangle of an edge. */
-POLY_INLINE void poly_clip_mesh_cut(const poly_clip_mesh *a, int t, int k, const unsigned *ahead,
+POLY_INLINE void poly_clip_mesh_cut(const poly_shape_view_d *a, int t, int k, const unsigned *ahead,
                                     const double *plane, int flip, double *s, double *e)
 {
   int from, to;
@@ -163,7 +157,7 @@ POLY_INLINE void poly_clip_mesh_add_part(poly_clip_accumulator *acc, double *ori
  * needs no bridges, and segments of triangles wholly outside a plane of the piece are not made at all; every point
  * summed is a corner of the intersection, kept for the depth. Returns 0 when the crossings along the edges do not
  * alternate (a degenerate pose) or the buffers overflow. */
-POLY_INLINE int poly_clip_mesh_face(const poly_clip_mesh *a, const poly_clip_faces *b, int face, const double *xb,
+POLY_INLINE int poly_clip_mesh_face(const poly_shape_view_d *a, const poly_clip_faces *b, int face, const double *xb,
                                     const unsigned *ahead, const unsigned *out_of, const int *crossing,
                                     int num_crossing, const double *planes, int k, int flip,
                                     poly_clip_accumulator *acc)
@@ -267,7 +261,7 @@ POLY_INLINE int poly_clip_mesh_face(const poly_clip_mesh *a, const poly_clip_fac
 
 /* A's triangle `t` clipped by the planes of `cuts` (reversed for those of `back`) into `polygon` (room for
  * POLY_CLIP_MAX_POLYGON corners); returns the corner count, or -1 when it outgrows that. */
-POLY_INLINE int poly_clip_mesh_clip_triangle(const poly_clip_mesh *a, int t, const double *planes, unsigned cuts,
+POLY_INLINE int poly_clip_mesh_clip_triangle(const poly_shape_view_d *a, int t, const double *planes, unsigned cuts,
                                              unsigned back, double *polygon)
 {
   double work[3 * POLY_CLIP_MAX_POLYGON], *in = polygon, *out = work;
@@ -289,7 +283,7 @@ POLY_INLINE int poly_clip_mesh_clip_triangle(const poly_clip_mesh *a, int t, con
 
 /* A's triangles clipped by the piece (front, back) of B, each surviving polygon accumulated on A's side; per
  * triangle in `out_of` the planes of the piece all its corners are outside of (0 when some part may be inside). */
-POLY_INLINE int poly_clip_mesh_triangles(const poly_clip_mesh *a, const poly_clip_mesh_sides *sides,
+POLY_INLINE int poly_clip_mesh_triangles(const poly_shape_view_d *a, const poly_clip_mesh_sides *sides,
                                          const double *planes, unsigned front, unsigned back, unsigned *out_of,
                                          poly_clip_accumulator *acc)
 {
@@ -309,7 +303,7 @@ POLY_INLINE int poly_clip_mesh_triangles(const poly_clip_mesh *a, const poly_cli
 /* The overlap of mesh A and B (B's body frame taken to A's by `rotation` and `translation`), as poly_clip_overlap:
  * 1 with `out` filled (volume 0: apart, with a separating plane's code when one of B's supporting planes has all of
  * A in front), 0 for the general path. */
-POLY_INLINE int poly_clip_mesh_overlap(const poly_clip_mesh *a, const poly_clip_faces *b, const double *rotation,
+POLY_INLINE int poly_clip_mesh_overlap(const poly_shape_view_d *a, const poly_clip_faces *b, const double *rotation,
                                        const double *translation, double size, int want_second,
                                        poly_clip_result *out, poly_clip_corners *corners)
 {

@@ -732,8 +732,7 @@ void poly_mesh_prism_clip_faces(poly_mesh_prism *prism)
 const poly_shape_view_d *poly_mesh_prism_view(poly_mesh_prism *prism, const poly_shape_view_d *particle)
 {
   const int clips = poly_clip_takes(&particle->clip);
-  const int meshes = POLY_CLIP_MESH_PATH &&
-                     poly_clip_mesh_fits(particle->num_vertices, particle->num_triangles, particle->triangle_edges);
+  const int meshes = POLY_CLIP_MESH_PATH && poly_clip_mesh_fits(particle);
   if (!clips && !meshes) return &prism->view;
   poly_mesh_prism_clip_faces(prism);
   if (prism->clip_view.clip.num_faces == 0) return &prism->view;

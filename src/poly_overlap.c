@@ -139,19 +139,28 @@ static void poly_result_to_world(const poly_pose *pose_a, const double rotation_
   poly_second_moment_rotate(rotation_a, local_second, result->second_moment);
 }
 
-/* A's mesh for the mesh path (poly_clip_mesh.h) against B, a mesh wall's prism in its mesh view
- * (poly_mesh_prism_view); 1 when that path takes the pair.
- * Double only: mixed precision's views hold single-precision vertices. */
-static int clip_mesh_of_d(const poly_shape_view_d *a, const poly_shape_view_d *b, poly_clip_mesh *mesh)
+/* The mesh path (poly_clip_mesh.h) for A against B, a mesh wall's prism in its mesh view (poly_mesh_prism_view):
+ * whether it takes the pair, and its overlap. Double only: mixed precision's views hold single-precision vertices. */
+static int clip_mesh_takes_d(const poly_shape_view_d *a, const poly_shape_view_d *b)
 {
-  mesh->num_vertices = a->num_vertices, mesh->num_triangles = a->num_triangles;
-  mesh->vertices = a->vertices, mesh->triangles = a->triangles, mesh->edges = a->edges;
-  mesh->edge_triangles = a->edge_triangles, mesh->triangle_edges = a->triangle_edges;
-  return poly_clip_mesh_takes(mesh, &b->clip);
+  return poly_clip_mesh_takes(a, &b->clip);
 }
-static int clip_mesh_of_f(const poly_shape_view_f *a, const poly_shape_view_f *b, poly_clip_mesh *mesh)
+static int clip_mesh_overlap_d(const poly_shape_view_d *a, const poly_shape_view_d *b, const double *rotation,
+                               const double *translation, double size, int want_second, poly_clip_result *out,
+                               poly_clip_corners *corners)
 {
-  (void)a, (void)b, (void)mesh;
+  return poly_clip_mesh_overlap(a, &b->clip, rotation, translation, size, want_second, out, corners);
+}
+static int clip_mesh_takes_f(const poly_shape_view_f *a, const poly_shape_view_f *b)
+{
+  (void)a, (void)b;
+  return 0;
+}
+static int clip_mesh_overlap_f(const poly_shape_view_f *a, const poly_shape_view_f *b, const double *rotation,
+                               const double *translation, double size, int want_second, poly_clip_result *out,
+                               poly_clip_corners *corners)
+{
+  (void)a, (void)b, (void)rotation, (void)translation, (void)size, (void)want_second, (void)out, (void)corners;
   return 0;
 }
 
@@ -165,8 +174,7 @@ static int clip_mesh_of_f(const poly_shape_view_f *a, const poly_shape_view_f *b
                                          poly_overlap_workspace##SUFFIX *ws, double *local_centroid,   \
                                          double *local_normal, poly_overlap_result *result)            \
   {                                                                                                   \
-    poly_clip_mesh mesh;                                                                              \
-    const int by_mesh = ws->use_clip && clip_mesh_of##SUFFIX(a, b, &mesh);                            \
+    const int by_mesh = ws->use_clip && clip_mesh_takes##SUFFIX(a, b);                                \
     if (!by_mesh && (!ws->use_clip || !poly_clip_takes(&a->clip) || !poly_clip_takes(&b->clip))) return 0; \
     /* The general path's slab first for pieces (an apart pair of pieces costs a projection, not every piece), \
      * and for a pair apart at its last evaluation its parting search (the general path's filters): the       \
@@ -188,8 +196,8 @@ static int clip_mesh_of_f(const poly_shape_view_f *a, const poly_shape_view_f *b
     poly_clip_corners corners = {points, ws->capacity_corners, 0, {0.0, 0.0, 0.0}};                   \
     poly_clip_corners *keep = points && ws->want_nodes ? &corners : NULL;                             \
     const double size = (double)a->bounding_radius + (double)b->bounding_radius;                      \
-    if (!(by_mesh ? poly_clip_mesh_overlap(&mesh, &b->clip, rotation, translation, size, ws->want_second_moment, \
-                                           &clip, keep)                                               \
+    if (!(by_mesh ? clip_mesh_overlap##SUFFIX(a, b, rotation, translation, size, ws->want_second_moment, &clip, \
+                                              keep)                                                   \
                   : poly_clip_overlap(&a->clip, &b->clip, rotation, translation, size, ws->want_second_moment, \
                                       &clip, keep)) ||                                                \
         (keep && corners.count < 0)) { /* flush faces, or corners the workspace does not hold */      \

@@ -234,7 +234,7 @@ int main(int argc, char **argv)
         if (path == 0) {
           total_pieces++;
           /* The clipping path proper, or the mesh path (poly_clip_mesh.h). */
-          if (prism_view->clip.facets ? poly_clip_mesh_fits(view.num_vertices, view.num_triangles, view.triangle_edges)
+          if (prism_view->clip.facets ? poly_clip_mesh_fits(&view)
                                       : poly_clip_takes(&view.clip) && poly_clip_takes(&prism_view->clip)) {
             clip_offered++;
             clip_handed_back += ws.clip_fallbacks > fallbacks;
