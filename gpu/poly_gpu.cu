@@ -282,9 +282,10 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
 #include "poly_gpu_clip_kernels.cuh"
 
 // One warp per pair of `list` (poly_gpu_warp_impl.cuh), each warp with its
-// block of limits.bytes of shared memory; pairs it cannot finish, and pairs of
-// shapes beyond the limits, go to `handed_back` (counted in counters[2]) for
-// contact_kernel.
+// block of limits.bytes of shared memory, or of `global_blocks` (the pair's
+// own, at its place in `list`) for shapes too large for shared memory; pairs it
+// cannot finish, and pairs of shapes beyond the limits, go to `handed_back`
+// (counted in counters[2]) for contact_kernel.
 template <int Precision>
 __global__ void __launch_bounds__(kThreads)
     warp_contact_kernel(DeviceShapes shapes, const int *__restrict__ list, int count, const int *__restrict__ pair_i,
@@ -294,7 +295,7 @@ __global__ void __launch_bounds__(kThreads)
                         double *__restrict__ history, const int *__restrict__ slot,
                         PairForce *__restrict__ pair_force, PairGeometry *__restrict__ results,
                         int *__restrict__ counters,
-                        int *__restrict__ handed_back, WarpLimits limits)
+                        int *__restrict__ handed_back, WarpLimits limits, char *__restrict__ global_blocks)
 {
   typedef Narrow<Precision> N;
   extern __shared__ double warp_blocks[];
@@ -303,8 +304,9 @@ __global__ void __launch_bounds__(kThreads)
   if (local >= count) return;  // the pair's whole group of lanes
   const poly_lanes lanes = poly_lanes_of(limits.lanes);
   typename N::WarpMemory memory;
-  N::warp_layout(&memory, (char *)warp_blocks + (size_t)group * limits.bytes, limits.vertices, limits.triangles,
-                 limits.edges, limits.records);
+  char *block = global_blocks ? global_blocks + (size_t)local * limits.bytes
+                              : (char *)warp_blocks + (size_t)group * limits.bytes;
+  N::warp_layout(&memory, block, limits.vertices, limits.triangles, limits.edges, limits.records);
   int p = list[local];
   PairBodies pair;
   pair_bodies(p, pair_i, pair_j, particles, motion, pair);
@@ -371,17 +373,24 @@ template <typename T> bool upload_raw(T **device, const std::vector<T> &host, ch
                size);
 }
 
+template <int Precision>
+bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count, PairGeometry *device_results,
+                   char *message, size_t size);
+
 // contact_kernel over `count` pairs of `list`: in one launch with local-memory
-// workspaces, else in batches of threads whose workspaces fit in a bounded
-// scratch buffer.
+// workspaces, else (`warp_first` false, or POLY_GPU_PAIR_KERNEL=thread) in
+// batches of threads whose workspaces fit in a bounded scratch buffer. With
+// `warp_first` such pairs take large_by_warp first.
 template <int Precision>
 bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int count, PairGeometry *device_results,
-                     char *message, size_t size)
+                     char *message, size_t size, bool warp_first = true)
 {
   typedef Narrow<Precision> N;
   const DeviceShapes &s = state.shapes;
   if (count == 0) return true;
   size_t workspace = N::layout(NULL, NULL, s.max_vertices, s.max_triangles);
+  if (workspace > LocalWorkspace<Precision>::bytes && warp_first && state.options.pair_kernel != 1)
+    return large_by_warp<Precision>(settings, list, count, device_results, message, size);
   if (workspace <= LocalWorkspace<Precision>::bytes) {
     contact_kernel<Precision, LocalWorkspace<Precision>::bytes><<<(count + kThreads - 1) / kThreads, kThreads>>>(
         s, list, 0, count, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
@@ -403,6 +412,46 @@ bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int cou
     if (!check(cudaGetLastError(), "contact kernel launch", message, size)) return false;
   }
   return true;
+}
+
+// The pairs of shapes whose workspaces do not fit a thread's local memory (rock_1000, icosphere_1280, or small shapes
+// beside them), a warp per pair as warp_contact_kernel does in shared memory, but each warp's block in the scratch
+// buffer: a block per pair rather than an overlap workspace per thread, so that the bounded buffer holds enough
+// pairs at once to fill the device (a rock_1000 workspace of about 350 KB let 2048 threads run at a time, a fraction
+// of one warp per SM), and the lanes share the pair's loops. What the warps hand back takes the one-thread kernel.
+template <int Precision>
+bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count, PairGeometry *device_results,
+                   char *message, size_t size)
+{
+  typedef Narrow<Precision> N;
+  WarpLimits limits = {state.shapes.max_vertices, state.shapes.max_triangles, max_shape_edges(), 0, 0, 32};
+  limits.records = 4 * limits.triangles + 64;
+  const size_t bytes =
+      (N::warp_layout(NULL, NULL, limits.vertices, limits.triangles, limits.edges, limits.records) + 255) / 256 * 256;
+  const size_t budget = (size_t)1 << 30;
+  size_t batch = std::min((size_t)count, budget / bytes);
+  if (batch == 0) return thread_per_pair<Precision>(settings, list, count, device_results, message, size, false);
+  limits.bytes = (int)bytes;
+  if (!ensure(state.scratch, batch * bytes, message, size) || !ensure(state.handed_back, count, message, size))
+    return false;
+  const int groups = kThreads / 32;
+  for (size_t first = 0; first < (size_t)count; first += batch) {
+    const int chunk = (int)std::min(batch, (size_t)count - first);
+    warp_contact_kernel<Precision><<<(chunk + groups - 1) / groups, kThreads>>>(
+        state.shapes, list + first, chunk, state.pair_i.data, state.pair_j.data, state.particles.data,
+        state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
+        state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_back.data, limits,
+        state.scratch.data);
+    if (!check(cudaGetLastError(), "large pairs' warp kernel launch", message, size)) return false;
+  }
+  int num_handed = 0;
+  if (!check(cudaMemcpy(&num_handed, state.counters.data + 2, sizeof(int), cudaMemcpyDeviceToHost),
+             "large pairs' warp kernel", message, size) ||
+      !check(cudaMemset(state.counters.data + 2, 0, sizeof(int)), "cudaMemset", message, size))
+    return false;
+  state.timing.handed_back += num_handed;
+  return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size,
+                                    false);
 }
 
 // The warp kernels' limits (WarpLimits) for the shapes of poly_gpu_init, each count at least the minimum given.
@@ -512,7 +561,8 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
                message, size))
       return false;
     state.timing.handed_back += num_handed;
-    return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size);
+    return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size,
+                                   false);
   }
   if (limits.bytes == 0)
     return thread_per_pair<Precision>(settings, state.touching.data, num_touching, device_results, message, size);
@@ -526,14 +576,16 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
   warp_contact_kernel<Precision><<<(num_touching + grid.groups - 1) / grid.groups, grid.threads, grid.shared>>>(
       s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
       state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
-      state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_back.data, limits);
+      state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_back.data, limits,
+      NULL);
   int num_handed = 0;
   if (!check(cudaGetLastError(), "warp kernel launch", message, size) ||
       !check(cudaMemcpy(&num_handed, state.counters.data + 2, sizeof(int), cudaMemcpyDeviceToHost), "warp kernel",
              message, size))
     return false;
   state.timing.handed_back += num_handed;
-  return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size);
+  return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size,
+                                   false);
 }
 
 }  // namespace
@@ -541,6 +593,13 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
 const DeviceShapes *poly_gpu_detail::device_shapes()
 {
   return state.ready ? &state.shapes : NULL;
+}
+
+int poly_gpu_detail::max_shape_edges()
+{
+  int edges = 0;
+  for (size_t n = 2; n < state.host_counts.size(); n += 3) edges = std::max(edges, state.host_counts[n]);
+  return edges;
 }
 
 WarpLimits poly_gpu_detail::warp_limits(int precision, int min_vertices, int min_triangles, int min_edges)

@@ -259,8 +259,9 @@ inline bool warp_launch(Kernel kernel, const WarpLimits &limits, WarpLaunch *lau
                "warp kernel shared memory", message, size);
 }
 
-// The shapes uploaded by poly_gpu_init (NULL before it).
+// The shapes uploaded by poly_gpu_init (NULL before it), and the most edges of one of them.
 const DeviceShapes *device_shapes();
+int max_shape_edges();
 
 // For the shapes of poly_gpu_init in a precision: the warp kernels' limits, each count at least the minimum
 // given (a wall's prism: 6 vertices, 8 triangles, 12 edges); POLY_GPU_WALL_KERNEL (0 unset, 1 thread, 2 warp).

@@ -17,6 +17,8 @@
 
 #include <string.h>
 
+#include <algorithm>
+
 #include "poly_gpu_device.cuh"
 
 using namespace poly_gpu_detail;
@@ -29,6 +31,7 @@ struct WallState {
   DeviceArray<double> nodes;
   DeviceArray<int> counters;          // [0] nodes reserved, [1] pieces the lanes handed back
   DeviceArray<int> handed_back;       // the pieces of counters[1]
+  DeviceArray<int> handed_large;      // the pieces large_pieces_by_warp hands back (counters[1] again)
   DeviceArray<char> scratch;
   PinnedArray<poly_gpu_wall_piece> host_pieces;
   PinnedArray<double> host_nodes;
@@ -150,32 +153,36 @@ __global__ void __launch_bounds__(kThreads, POLY_GPU_CONTACT_MIN_BLOCKS)
   overlaps[c] = out;
 }
 
-// A group of limits.lanes lanes per piece (gpu/poly_gpu_warp_impl.cuh), each group with its block of
-// limits.bytes of shared memory: the prism's reals in its first prism_bytes, the warp pass's arrays after
-// them. Pieces the lanes cannot finish (flush faces, inconsistent edges, full records), and pieces of shapes
-// beyond the limits, go to `handed_back` (counted in counters[1]) for wall_kernel. counters[0] reserves
-// nodes, as wall_kernel's node_count; capacity_points is wall_kernel's workspace's, so that both keep the
-// nodes of the same pieces.
+// A group of limits.lanes lanes per piece of `list` from `first` (NULL: the pieces from `first`;
+// gpu/poly_gpu_warp_impl.cuh), each group with its block of limits.bytes of shared memory, or of `global_blocks`
+// (the piece's own, at its place in the launch) for shapes too large for shared memory: the prism's reals in its
+// first prism_bytes, the warp pass's arrays after them. Pieces the lanes cannot finish (flush faces, inconsistent
+// edges, full records), and pieces of shapes beyond the limits, go to `handed_back` (counted in counters[1]) for
+// wall_kernel. counters[0] reserves nodes, as wall_kernel's node_count; capacity_points is wall_kernel's
+// workspace's, so that both keep the nodes of the same pieces.
 template <int Precision>
 __global__ void __launch_bounds__(kThreads)
-    warp_wall_kernel(DeviceShapes shapes, const poly_gpu_wall_piece *__restrict__ pieces, int count,
-                     poly_gpu_wall_overlap *__restrict__ overlaps, double *__restrict__ nodes, int node_capacity,
-                     int capacity_points, int *__restrict__ counters, int *__restrict__ handed_back, WarpLimits limits,
-                     int prism_bytes)
+    warp_wall_kernel(DeviceShapes shapes, const poly_gpu_wall_piece *__restrict__ pieces, const int *__restrict__ list,
+                     int first, int count, poly_gpu_wall_overlap *__restrict__ overlaps, double *__restrict__ nodes,
+                     int node_capacity, int capacity_points, int *__restrict__ counters,
+                     int *__restrict__ handed_back, WarpLimits limits, int prism_bytes,
+                     char *__restrict__ global_blocks)
 {
   typedef Narrow<Precision> N;
   typedef typename N::Real Real;
   extern __shared__ double warp_blocks[];
   const int groups = blockDim.x / limits.lanes, group = threadIdx.x / limits.lanes;
-  const int c = blockIdx.x * groups + group;
-  if (c >= count) return;  // the piece's whole group of lanes
+  const int local = blockIdx.x * groups + group;
+  if (local >= count) return;  // the piece's whole group of lanes
+  const int c = list ? list[first + local] : first + local;
   const poly_lanes lanes = poly_lanes_of(limits.lanes);
   const poly_gpu_wall_piece &piece = pieces[c];
   if (beyond_limits(shapes, piece.shape, limits)) {
     if (lanes.lane == 0) handed_back[atomicAdd(counters + 1, 1)] = c;
     return;
   }
-  char *block = (char *)warp_blocks + (size_t)group * limits.bytes;
+  char *block = global_blocks ? global_blocks + (size_t)local * limits.bytes
+                              : (char *)warp_blocks + (size_t)group * limits.bytes;
   Real *prism_reals = (Real *)block;
   prism_reals_of(piece, prism_reals, lanes.lane, lanes.size);
   typename N::WarpMemory memory;
@@ -253,36 +260,85 @@ bool use_warp_wall_kernel()
   return wall_kernel_choice() != 1;
 }
 
+// The pieces of `list` (NULL: all `count` pieces) on a warp each, as warp_wall_kernel does in shared memory, but
+// each warp's block in the scratch buffer: for shapes whose one-thread workspaces do not fit local memory (a
+// rock_1000 workspace of about 350 KB let 512 pieces run at a time), a block per piece rather than a workspace per
+// thread, and the lanes sharing the piece's loops. What the warps hand back takes the one-thread kernel.
+template <int Precision>
+bool large_pieces_by_warp(const DeviceShapes &shapes, const int *list, int count, int node_capacity,
+                          int capacity_points, char *message, size_t size)
+{
+  typedef typename Narrow<Precision>::Real Real;
+  if (count == 0) return true;
+  WarpLimits limits = {std::max(shapes.max_vertices, kPrismVertices), std::max(shapes.max_triangles, kPrismTriangles),
+                       std::max(max_shape_edges(), kPrismEdges), 0, 0, 32};
+  limits.records = 4 * limits.triangles + 64;
+  const size_t prism_bytes = (kPrismReals * sizeof(Real) + 15) / 16 * 16;
+  const size_t bytes = (Narrow<Precision>::warp_layout(NULL, NULL, limits.vertices, limits.triangles, limits.edges,
+                                                       limits.records) + prism_bytes + 255) / 256 * 256;
+  const size_t budget = (size_t)1 << 28;
+  const size_t batch = std::min((size_t)count, budget / bytes);
+  if (batch == 0) return thread_per_piece<Precision>(shapes, list, count, node_capacity, message, size);
+  limits.bytes = (int)bytes;
+  if (!ensure(wall.scratch, batch * bytes, message, size) || !ensure(wall.handed_large, count, message, size) ||
+      !check(cudaMemset(wall.counters.data + 1, 0, sizeof(int)), "cudaMemset", message, size))
+    return false;
+  const int groups = kThreads / 32;
+  for (size_t first = 0; first < (size_t)count; first += batch) {
+    const int chunk = (int)std::min(batch, (size_t)count - first);
+    warp_wall_kernel<Precision><<<(chunk + groups - 1) / groups, kThreads>>>(
+        shapes, wall.pieces.data, list, (int)first, chunk, wall.overlaps.data, wall.nodes.data,
+        node_capacity, capacity_points, wall.counters.data, wall.handed_large.data, limits, (int)prism_bytes,
+        wall.scratch.data);
+    if (!check(cudaGetLastError(), "large pieces' warp wall kernel launch", message, size)) return false;
+  }
+  int num_handed = 0;
+  if (!check(cudaMemcpy(&num_handed, wall.counters.data + 1, sizeof(int), cudaMemcpyDeviceToHost),
+             "large pieces' warp wall kernel", message, size))
+    return false;
+  wall.handed += num_handed;
+  return thread_per_piece<Precision>(shapes, wall.handed_large.data, num_handed, node_capacity, message, size);
+}
+
 // All pieces: a group of lanes per piece, then a thread per piece for those the lanes handed back (or for
-// all, when use_warp_wall_kernel says so or no shape fits the lanes' blocks).
+// all, when use_warp_wall_kernel says so or no shape fits the lanes' blocks); where the one-thread workspaces
+// would be in global memory, a warp per piece with its block there first (large_pieces_by_warp).
 template <int Precision>
 bool launch(const DeviceShapes &shapes, int count, int node_capacity, char *message, size_t size)
 {
   typedef typename Narrow<Precision>::Real Real;
+  // The one-thread kernel's node capacity per piece (overlap_workspace_layout), for the same nodes kept.
+  int max_vertices = shapes.max_vertices > kPrismVertices ? shapes.max_vertices : kPrismVertices;
+  int max_triangles = shapes.max_triangles > kPrismTriangles ? shapes.max_triangles : kPrismTriangles;
+  typename Narrow<Precision>::Workspace probe;
+  char dummy;
+  const size_t workspace = Narrow<Precision>::layout(&probe, &dummy, max_vertices, max_triangles);  // capacities only
+  const bool large_by_warp = use_warp_wall_kernel() && workspace > LocalWorkspace<Precision>::bytes;
   WarpLimits limits = {0, 0, 0, 0, 0, 32};
   if (use_warp_wall_kernel())
     limits = warp_limits(Precision, kPrismVertices, kPrismTriangles, kPrismEdges);
-  if (limits.bytes == 0) return thread_per_piece<Precision>(shapes, NULL, count, node_capacity, message, size);
+  if (limits.bytes == 0)
+    return large_by_warp
+               ? large_pieces_by_warp<Precision>(shapes, NULL, count, node_capacity, probe.capacity_points, message,
+                                                 size)
+               : thread_per_piece<Precision>(shapes, NULL, count, node_capacity, message, size);
   const int prism_bytes = (int)((kPrismReals * sizeof(Real) + 15) / 16 * 16);
   limits.bytes += prism_bytes;
   WarpLaunch grid;
   if (!warp_launch(warp_wall_kernel<Precision>, limits, &grid, message, size) ||
       !ensure(wall.handed_back, count, message, size))
     return false;
-  // The one-thread kernel's node capacity per piece (overlap_workspace_layout), for the same nodes kept.
-  int max_vertices = shapes.max_vertices > kPrismVertices ? shapes.max_vertices : kPrismVertices;
-  int max_triangles = shapes.max_triangles > kPrismTriangles ? shapes.max_triangles : kPrismTriangles;
-  typename Narrow<Precision>::Workspace probe;
-  char dummy;
-  Narrow<Precision>::layout(&probe, &dummy, max_vertices, max_triangles);  // sets the capacities only
   warp_wall_kernel<Precision><<<(count + grid.groups - 1) / grid.groups, grid.threads, grid.shared>>>(
-      shapes, wall.pieces.data, count, wall.overlaps.data, wall.nodes.data, node_capacity, probe.capacity_points,
-      wall.counters.data, wall.handed_back.data, limits, prism_bytes);
+      shapes, wall.pieces.data, NULL, 0, count, wall.overlaps.data, wall.nodes.data, node_capacity,
+      probe.capacity_points, wall.counters.data, wall.handed_back.data, limits, prism_bytes, NULL);
   int num_handed = 0;
   if (!check(cudaGetLastError(), "warp wall kernel launch", message, size) ||
       !check(cudaMemcpy(&num_handed, wall.counters.data + 1, sizeof(int), cudaMemcpyDeviceToHost), "warp wall kernel",
              message, size))
     return false;
+  if (large_by_warp)
+    return large_pieces_by_warp<Precision>(shapes, wall.handed_back.data, num_handed, node_capacity,
+                                           probe.capacity_points, message, size);
   wall.handed += num_handed;
   return thread_per_piece<Precision>(shapes, wall.handed_back.data, num_handed, node_capacity, message, size);
 }
@@ -358,13 +414,14 @@ void poly_gpu_detail::wall_timing(poly_gpu_timing *timing)
 size_t poly_gpu_detail::wall_bytes()
 {
   return bytes_of(wall.pieces) + bytes_of(wall.overlaps) + bytes_of(wall.nodes) + bytes_of(wall.counters) +
-         bytes_of(wall.handed_back) + bytes_of(wall.scratch);
+         bytes_of(wall.handed_back) + bytes_of(wall.handed_large) + bytes_of(wall.scratch);
 }
 
 void poly_gpu_detail::wall_clear()
 {
   release(wall.pieces); release(wall.overlaps); release(wall.nodes); release(wall.counters);
-  release(wall.handed_back); release(wall.scratch); release(wall.host_pieces); release(wall.host_nodes);
+  release(wall.handed_back); release(wall.handed_large); release(wall.scratch);
+  release(wall.host_pieces); release(wall.host_nodes);
   // The timing summary covers the whole session.
   WallState kept = wall;
   wall = WallState();

@@ -326,6 +326,20 @@ def test_gpu_and_cpu_agree_on_mesh_wall_pieces(launcher, precision, kernel):
 
 
 @needs_gpu
+@pytest.mark.parametrize("precision", ["double", "mixed"])
+@pytest.mark.parametrize("shape", ["rock_1000.obj", "icosphere_1280.off"])
+def test_gpu_and_cpu_agree_on_large_shapes_mesh_wall_pieces(launcher, precision, shape):
+    """Shapes whose one-thread workspaces do not fit local memory take a warp per piece with its block in global
+    memory (gpu/poly_gpu_wall.cu, large_pieces_by_warp), alone as in a deck of one template: 300 particles on
+    the creased mesh, the same checks and tolerances as above."""
+    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_wall_agreement"), str(ROOT / "examples" / "shapes"),
+                          "300", precision, shape], capture_output=True, text=True)
+    print(run.stdout)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.strip().endswith("OK")
+
+
+@needs_gpu
 def test_gpu_mesh_walls_match_cpu(run_deck, tmp_path):
     """The rotating drum of tests/test_mesh_walls.py (12 cubes, 128 triangles, fix mesh/surface/stress)
     with the /gpu pair style, whose mesh-wall overlaps then run on the GPU, against the CPU style, 12000
