@@ -63,11 +63,11 @@ struct State {
   int num_kept;                     // pairs the last pre-filter kept: the size of pair_force and results
   DeviceArray<int> handed_back;     // the pairs of [2]
   DeviceArray<int> large;           // the pairs of [3]
+  DeviceArray<int> handed_large;    // the pairs large_by_warp hands back (counted in [2] again)
   poly_gpu_options options;         // the kernel choices (poly_gpu_environment)
   bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
   bool any_clip;                    // some shape has faces for the clipping path (poly_clip.h)
   bool any_pieces;                  // some such shape is not convex (several pieces): the warp clipping kernel
-  bool all_clip;                    // every shape has clip faces
   ClipWarpLimits clip_limits;       // its shared block per warp, for the uploaded shapes
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
@@ -414,8 +414,8 @@ bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int cou
   return true;
 }
 
-// The pairs of shapes whose workspaces do not fit a thread's local memory (rock_1000, icosphere_1280, or small shapes
-// beside them), a warp per pair as warp_contact_kernel does in shared memory, but each warp's block in the scratch
+// The pairs of shapes whose workspaces do not fit a thread's local memory (from about 16 triangles: rock_70,
+// icosphere_80, rock_1000; or small shapes beside them) and without clip faces, a warp per pair as warp_contact_kernel does in shared memory, but each warp's block in the scratch
 // buffer: a block per pair rather than an overlap workspace per thread, so that the bounded buffer holds enough
 // pairs at once to fill the device (a rock_1000 workspace of about 350 KB let 2048 threads run at a time, a fraction
 // of one warp per SM), and the lanes share the pair's loops. What the warps hand back takes the one-thread kernel.
@@ -432,7 +432,8 @@ bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count
   size_t batch = std::min((size_t)count, budget / bytes);
   if (batch == 0) return thread_per_pair<Precision>(settings, list, count, device_results, message, size, false);
   limits.bytes = (int)bytes;
-  if (!ensure(state.scratch, batch * bytes, message, size) || !ensure(state.handed_back, count, message, size))
+  if (!ensure(state.scratch, batch * bytes, message, size) || !ensure(state.handed_large, count, message, size) ||
+      !check(cudaMemset(state.counters.data + 2, 0, sizeof(int)), "cudaMemset", message, size))
     return false;
   const int groups = kThreads / 32;
   for (size_t first = 0; first < (size_t)count; first += batch) {
@@ -440,7 +441,7 @@ bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count
     warp_contact_kernel<Precision><<<(chunk + groups - 1) / groups, kThreads>>>(
         state.shapes, list + first, chunk, state.pair_i.data, state.pair_j.data, state.particles.data,
         state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
-        state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_back.data, limits,
+        state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_large.data, limits,
         state.scratch.data);
     if (!check(cudaGetLastError(), "large pairs' warp kernel launch", message, size)) return false;
   }
@@ -450,7 +451,7 @@ bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count
       !check(cudaMemset(state.counters.data + 2, 0, sizeof(int)), "cudaMemset", message, size))
     return false;
   state.timing.handed_back += num_handed;
-  return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size,
+  return thread_per_pair<Precision>(settings, state.handed_large.data, num_handed, device_results, message, size,
                                     false);
 }
 
@@ -479,23 +480,21 @@ template <int Precision> WarpLimits warp_limits_of(int min_vertices, int min_tri
   return w;
 }
 
-// Which kernel takes the pairs (POLY_GPU_PAIR_KERNEL=thread or warp forces one).
-// Measured on an H100 (doc/gpu.md, "Contact kernels"): the thread kernel
-// is the faster one while its workspace fits in local memory, and for convex
-// shapes, whose pairs give every thread of a warp about the same work; the
-// warp kernel when the workspaces must go to global memory (large shapes, or
-// small ones beside a large one) and some shape is not convex.
-template <int Precision> bool use_warp_kernel()
+// The shared-memory warp kernel takes the pairs only when POLY_GPU_PAIR_KERNEL=warp forces it (tests,
+// benchmarks). By default, pairs whose one-thread workspaces fit local memory take the one-thread kernel (the
+// faster one for them, doc/gpu.md "Contact kernels"), and the others a warp each with its block in global memory
+// (large_by_warp): on one H200 that kept more warps on an SM than the shared blocks did (rock_70 1.1-1.25x), and
+// with no shared blocks the clipping kernels take every pair with clip faces (doc/benchmarks.md).
+bool use_warp_kernel()
 {
-  if (state.options.pair_kernel) return state.options.pair_kernel == 2;
-  const DeviceShapes &s = state.shapes;
-  size_t workspace = Narrow<Precision>::layout(NULL, NULL, s.max_vertices, s.max_triangles);
-  return workspace > LocalWorkspace<Precision>::bytes && state.any_nonconvex;
+  return state.options.pair_kernel == 2;
 }
 
-// Pre-filter, then overlap and contact law for the pairs that passed: a warp
-// per pair, then a thread per pair for those the warps handed back (or for all,
-// when use_warp_kernel says so or no shape fits the warp kernel).
+// Pre-filter, then overlap and contact law for the pairs that passed: the
+// clipping kernels for pairs with clip faces, the one-thread kernel or
+// large_by_warp for the rest and for what they hand back (thread_per_pair); with
+// POLY_GPU_PAIR_KERNEL=warp the shared-memory warp kernel, then the one-thread
+// kernel for what it hands back.
 template <int Precision>
 bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *message, size_t size)
 {
@@ -504,7 +503,7 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
   state.num_kept = 0;
   if (num_pairs == 0) return true;
   WarpLimits limits = {0, 0, 0, 0, 0, 32};
-  if (use_warp_kernel<Precision>()) limits = warp_limits_of<Precision>(0, 0, 0);
+  if (use_warp_kernel()) limits = warp_limits_of<Precision>(0, 0, 0);
   if (limits.bytes > 0 && !ensure(state.large, num_pairs, message, size)) return false;
   bounding_kernel<Precision><<<(num_pairs + kThreads - 1) / kThreads, kThreads>>>(
       s, num_pairs, state.pair_i.data, state.pair_j.data, state.particles.data, state.motion.data,
@@ -528,14 +527,9 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
       return false;
     device_results = state.results.data;
   }
-  if ((limits.bytes == 0 || state.all_clip) && Precision != POLY_PRECISION_SINGLE && state.any_clip &&
-      num_touching > 0 && !state.options.pair_kernel) {
+  if (Precision != POLY_PRECISION_SINGLE && state.any_clip && num_touching > 0 && !state.options.pair_kernel) {
     // Pairs of shapes with clip faces take the clipping path (in double, for mixed precision too, as on the host);
-    // the rest, and what it hands back, the one-thread kernel. When every shape has clip faces the warp kernel's
-    // shapes (rock_40) take it too, and the pairs beyond the warp kernel's block the one-thread kernel.
-    if (limits.bytes > 0 && !thread_per_pair<Precision>(settings, state.large.data, num_large, device_results,
-                                                         message, size))
-      return false;
+    // the rest, and what it hands back, thread_per_pair.
     if (!ensure(state.handed_back, num_touching, message, size)) return false;
     // Pairs of convex shapes run faster one per thread (their few faces leave most of a warp idle); shapes of
     // several pieces one per warp (doc/benchmarks.md, "Clipping kernels").
@@ -561,8 +555,7 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
                message, size))
       return false;
     state.timing.handed_back += num_handed;
-    return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size,
-                                   false);
+    return thread_per_pair<Precision>(settings, state.handed_back.data, num_handed, device_results, message, size);
   }
   if (limits.bytes == 0)
     return thread_per_pair<Precision>(settings, state.touching.data, num_touching, device_results, message, size);
@@ -693,7 +686,6 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
   std::vector<int> first_plane, first_face, first_start, first_corner, first_piece, first_point_start, first_face_start,
       first_point, first_piece_face;
   state.any_clip = state.any_pieces = false;
-  state.all_clip = num_shapes > 0;
   ClipWarpLimits limits = {0, 0, 0, 1, 0};
   for (int i = 0; i < num_shapes; i++) {
     const poly_shape *shape = shapes[i];
@@ -707,10 +699,7 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
     first_point.push_back((int)points.size());
     first_piece_face.push_back((int)faces.size());
     first_vertex.push_back((int)clip_vertices.size() / 3);
-    if (shape->num_clip_faces == 0) {
-      state.all_clip = false;
-      continue;
-    }
+    if (shape->num_clip_faces == 0) continue;
     state.any_clip = true;
     const int np = shape->num_clip_pieces;
     if (np > 1) state.any_pieces = true;
@@ -1017,7 +1006,7 @@ extern "C" size_t poly_gpu_bytes(void)
   // Shapes are small; the per-particle and per-pair arrays and the workspaces dominate.
   return bytes_of(state.particles) + bytes_of(state.motion) + bytes_of(state.pair_i) + bytes_of(state.pair_j) +
          bytes_of(state.history) + bytes_of(state.contact) + bytes_of(state.touching) + bytes_of(state.counters) +
-         bytes_of(state.handed_back) + bytes_of(state.large) +
+         bytes_of(state.handed_back) + bytes_of(state.large) + bytes_of(state.handed_large) +
          bytes_of(state.slot) + bytes_of(state.pair_force) + bytes_of(state.results) + bytes_of(state.csr_offsets) +
          bytes_of(state.csr_entries) + bytes_of(state.force_torque) + bytes_of(state.materials) +
          bytes_of(state.scratch) + wall_bytes();
@@ -1028,7 +1017,7 @@ extern "C" void poly_gpu_clear(void)
   if (state.ready) free_shapes(state.shapes);
   release(state.particles); release(state.motion); release(state.pair_i); release(state.pair_j);
   release(state.history); release(state.contact); release(state.touching); release(state.counters);
-  release(state.handed_back); release(state.large);
+  release(state.handed_back); release(state.large); release(state.handed_large);
   release(state.slot); release(state.pair_force); release(state.results); release(state.host_results);
   release(state.host_pair_force);
   release(state.csr_offsets); release(state.csr_entries);
