@@ -65,7 +65,6 @@ struct State {
   DeviceArray<int> large;           // the pairs of [3]
   DeviceArray<int> handed_large;    // the pairs large_by_warp hands back (counted in [2] again)
   poly_gpu_options options;         // the kernel choices (poly_gpu_environment)
-  bool any_nonconvex;               // some shape is not convex (poly_shape's face_of NULL)
   bool any_clip;                    // some shape has faces for the clipping path (poly_clip.h)
   bool any_pieces;                  // some such shape is not convex (several pieces): the warp clipping kernel
   ClipWarpLimits clip_limits;       // its shared block per warp, for the uploaded shapes
@@ -414,11 +413,12 @@ bool thread_per_pair(const poly_gpu_settings &settings, const int *list, int cou
   return true;
 }
 
-// The pairs of shapes whose workspaces do not fit a thread's local memory (from about 16 triangles: rock_70,
-// icosphere_80, rock_1000; or small shapes beside them) and without clip faces, a warp per pair as warp_contact_kernel does in shared memory, but each warp's block in the scratch
-// buffer: a block per pair rather than an overlap workspace per thread, so that the bounded buffer holds enough
-// pairs at once to fill the device (a rock_1000 workspace of about 350 KB let 2048 threads run at a time, a fraction
-// of one warp per SM), and the lanes share the pair's loops. What the warps hand back takes the one-thread kernel.
+// The pairs without clip faces of shapes whose workspaces do not fit a thread's local memory (from about 16
+// triangles: rock_70, icosphere_80, rock_1000; or small shapes beside them), a warp per pair as warp_contact_kernel
+// does in shared memory, but each warp's block in the scratch buffer: a block per pair rather than an overlap
+// workspace per thread, so that the bounded buffer holds enough pairs at once to fill the device (a rock_1000
+// workspace of about 350 KB let 2048 threads run at a time, a fraction of one warp per SM), and the lanes share the
+// pair's loops. What the warps hand back takes the one-thread kernel.
 template <int Precision>
 bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count, PairGeometry *device_results,
                    char *message, size_t size)
@@ -798,7 +798,6 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
     state.host_counts.push_back(shape->num_vertices);
     state.host_counts.push_back(shape->num_triangles);
     state.host_counts.push_back(shape->num_edges);
-    if (!shape->face_of) state.any_nonconvex = true;
     offsets.push_back(v); offsets.push_back(t); offsets.push_back(e);
     counts.push_back(shape->num_vertices); counts.push_back(shape->num_triangles); counts.push_back(shape->num_edges);
     radius.push_back(shape->bounding_radius);
