@@ -36,7 +36,7 @@
 POLY_INLINE int poly_clip_mesh_fits(const poly_shape_view_d *a)
 {
   return a->triangle_edges && a->num_vertices <= POLY_CLIP_MESH_MAX_VERTICES &&
-         a->num_triangles <= POLY_CLIP_MESH_MAX_TRIANGLES;
+         a->num_triangles <= POLY_CLIP_MESH_MAX_TRIANGLES && a->num_edges <= 3 * POLY_CLIP_MESH_MAX_TRIANGLES / 2;
 }
 
 /* Does the mesh path take this pair: A fits and B is a prism's mesh view (faces its pieces' facets), of few planes? */
@@ -102,15 +102,22 @@ typedef struct poly_clip_mesh_sides {
   unsigned any_ahead, all_ahead, any_behind, all_behind;
 } poly_clip_mesh_sides;
 
-/* The segment where A's triangle `t` crosses plane `k`, A's inside on its left seen from the plane's front (reversed
- * with `flip`): its ends are the crossings of the triangle's edges, the same bits from either triangle of an edge. */
-POLY_INLINE void poly_clip_mesh_cut(const poly_shape_view_d *a, int t, int k, const unsigned *ahead,
-                                    const double *plane, int flip, double *s, double *e)
+/* A's cross-section by plane `k`: per triangle of `crossing`, the edges its segment runs from (`start`) and to
+ * (`end`), A's inside on its left seen from the plane's front (reversed with `flip`), and each such edge's crossing
+ * point in `edge_point` (3 per edge of A). The section is closed and A's triangles share each edge in opposite
+ * directions, so every crossing edge starts one segment and ends another: computed once, as the start, the same
+ * bits for both segments (each triangle computed both of its ends before, so every point twice). */
+POLY_INLINE void poly_clip_mesh_section(const poly_shape_view_d *a, const int *crossing, int num_crossing, int k,
+                                        const unsigned *ahead, const double *plane, int flip, int *start, int *end,
+                                        double *edge_point)
 {
-  int from, to;
-  poly_clip_mesh_segment(a, t, k, ahead, &from, &to);
-  poly_clip_mesh_crossing(a, flip ? to : from, plane, s);
-  poly_clip_mesh_crossing(a, flip ? from : to, plane, e);
+  for (int i = 0; i < num_crossing; i++) {
+    int from, to;
+    poly_clip_mesh_segment(a, crossing[i], k, ahead, &from, &to);
+    start[i] = flip ? to : from;
+    end[i] = flip ? from : to;
+    poly_clip_mesh_crossing(a, start[i], plane, edge_point + 3 * start[i]);
+  }
 }
 
 /* What segment s-e of a closed curve in the plane of unit normal `normal` adds to the curve's winding number about
@@ -148,7 +155,8 @@ POLY_INLINE void poly_clip_mesh_add_part(poly_clip_accumulator *acc, double *ori
 }
 
 /* B's face `face` on plane `k` of a piece (`out_of`: per triangle of A the planes of the piece all its corners are
- * outside of; `flip`: the face's outward normal is the plane's reversed), inside A, wound about the face's outward
+ * outside of; `flip`: the face's outward normal is the plane's reversed; A's section by the plane from
+ * poly_clip_mesh_section), inside A, wound about the face's outward
  * normal. Its boundary there is (1) the parts inside the face of A's cross-section by the plane (the segments where
  * A's triangles `crossing` cross it, A's inside on their left), each segment cut by the face's edges, and (2) the
  * parts of the face's edges inside A, which start where the cross-section leaves the face and end where it enters
@@ -157,9 +165,9 @@ POLY_INLINE void poly_clip_mesh_add_part(poly_clip_accumulator *acc, double *ori
  * needs no bridges, and segments of triangles wholly outside a plane of the piece are not made at all; every point
  * summed is a corner of the intersection, kept for the depth. Returns 0 when the crossings along the edges do not
  * alternate (a degenerate pose) or the buffers overflow. */
-POLY_INLINE int poly_clip_mesh_face(const poly_shape_view_d *a, const poly_clip_faces *b, int face, const double *xb,
-                                    const unsigned *ahead, const unsigned *out_of, const int *crossing,
-                                    int num_crossing, const double *planes, int k, int flip,
+POLY_INLINE int poly_clip_mesh_face(const poly_clip_faces *b, int face, const double *xb, const unsigned *out_of,
+                                    const int *crossing, int num_crossing, const int *start, const int *end,
+                                    const double *edge_point, const double *planes, int k, int flip,
                                     poly_clip_accumulator *acc)
 {
   poly_clip_mesh_crossing_point through[POLY_CLIP_MESH_MAX_THROUGH];
@@ -182,10 +190,8 @@ POLY_INLINE int poly_clip_mesh_face(const poly_shape_view_d *a, const poly_clip_
   int have_origin = 0;
   /* (1) The cross-section's segments inside the face. */
   for (int i = 0; i < num_crossing; i++) {
-    const int t = crossing[i];
-    if (out_of[t]) continue;  /* the triangle, and its segment, outside the piece */
-    double s[3], e[3];
-    poly_clip_mesh_cut(a, t, k, ahead, plane, flip, s, e);
+    if (out_of[crossing[i]]) continue;  /* the triangle, and its segment, outside the piece */
+    const double *s = edge_point + 3 * start[i], *e = edge_point + 3 * end[i];
     double t0 = 0.0, t1 = 1.0;
     int in_edge = -1, out_edge = -1;
     for (int c = 0; c < num_corners; c++) {
@@ -239,11 +245,9 @@ POLY_INLINE int poly_clip_mesh_face(const poly_shape_view_d *a, const poly_clip_
     inside = through[0].into;
   } else {
     int winding = 0;
-    for (int i = 0; i < num_crossing; i++) {
-      double s[3], e[3];
-      poly_clip_mesh_cut(a, crossing[i], k, ahead, plane, flip, s, e);
-      winding += poly_clip_mesh_winding(s, e, plane, xb + 3 * corner[0]);
-    }
+    for (int i = 0; i < num_crossing; i++)
+      winding += poly_clip_mesh_winding(edge_point + 3 * start[i], edge_point + 3 * end[i], plane,
+                                        xb + 3 * corner[0]);
     inside = winding != 0;
   }
   for (int c = 0, x = 0; c < num_corners; c++) {
@@ -313,7 +317,8 @@ POLY_INLINE int poly_clip_mesh_overlap(const poly_shape_view_d *a, const poly_cl
   unsigned ahead[POLY_CLIP_MESH_MAX_VERTICES], behind[POLY_CLIP_MESH_MAX_VERTICES];
   unsigned out_of[POLY_CLIP_MESH_MAX_TRIANGLES];
   poly_clip_mesh_sides sides[POLY_CLIP_MESH_MAX_TRIANGLES];
-  int crossing[POLY_CLIP_MESH_MAX_TRIANGLES];
+  int crossing[POLY_CLIP_MESH_MAX_TRIANGLES], start[POLY_CLIP_MESH_MAX_TRIANGLES], end[POLY_CLIP_MESH_MAX_TRIANGLES];
+  double edge_point[3 * (3 * POLY_CLIP_MESH_MAX_TRIANGLES / 2)];  /* a closed mesh has 3/2 edges a triangle */
   out->volume = out->depth = out->area = out->projected_area = 0.0;
   out->num_nodes = 0;
   out->separating = -1;
@@ -364,11 +369,16 @@ POLY_INLINE int poly_clip_mesh_overlap(const poly_shape_view_d *a, const poly_cl
         const int face = b->piece_faces[i], k = b->face_plane ? b->face_plane[face] : face;
         const unsigned bit = 1u << k;
         if (!(any_ahead & bit) || !(any_behind & bit)) continue;  /* A wholly on one side of the face's plane */
+        /* Without a branch per triangle: which ones cross is unpredictable. */
         int num_crossing = 0;
-        for (int t = 0; t < a->num_triangles; t++)
-          if ((sides[t].any_ahead & ~sides[t].all_ahead) & bit) crossing[num_crossing++] = t;
-        if (!poly_clip_mesh_face(a, b, face, xb, ahead, out_of, crossing, num_crossing, planes, k, (back >> k) & 1,
-                                 &acc))
+        for (int t = 0; t < a->num_triangles; t++) {
+          crossing[num_crossing] = t;
+          num_crossing += (int)(((sides[t].any_ahead & ~sides[t].all_ahead) >> k) & 1u);
+        }
+        poly_clip_mesh_section(a, crossing, num_crossing, k, ahead, planes + 4 * k, (back >> k) & 1, start, end,
+                               edge_point);
+        if (!poly_clip_mesh_face(b, face, xb, out_of, crossing, num_crossing, start, end, edge_point, planes, k,
+                                 (back >> k) & 1, &acc))
           return 0;
       }
     }
