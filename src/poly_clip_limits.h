@@ -26,11 +26,15 @@
 #endif
 #define POLY_CLIP_MAX_POLYGON (POLY_CLIP_MAX_LOOP + POLY_CLIP_MAX_PIECE_PLANES)
 #define POLY_CLIP_MAX_POLYGONS 64  /* clipped polygons of one pair */
-#ifndef POLY_CLIP_MAX_NODES        /* polygon corners kept for the depth (a GPU thread's stack holds them) */
+/* Polygon corners kept for the depth: a GPU thread's stack holds them; on the host the mesh walls' pieces need
+ * them too (want_nodes), and against a triangle larger than the particle the mesh path's corners of icosphere_320,
+ * rock_70 or icosphere_80 outgrew 256, which handed the piece to the general path (3.5x, 1.4x, 1.4x slower at
+ * `bash tools/bench_mesh_pieces.sh 2000 3 all 2`, doc/benchmarks.md). */
+#ifndef POLY_CLIP_MAX_NODES
 #ifdef __CUDACC__
 #define POLY_CLIP_MAX_NODES 96
 #else
-#define POLY_CLIP_MAX_NODES 256
+#define POLY_CLIP_MAX_NODES 1024
 #endif
 #endif
 #define POLY_CLIP_FLUSH 1e-9
