@@ -156,10 +156,11 @@ POLY_INLINE void poly_clip_mesh_add_part(poly_clip_accumulator *acc, double *ori
 
 /* B's face `face` on plane `k` of a piece (`out_of`: per triangle of A the planes of the piece all its corners are
  * outside of; `flip`: the face's outward normal is the plane's reversed; `start`, `end`, `edge_point`: A's section
- * by the plane, from poly_clip_mesh_section), inside A, wound about the face's outward normal. Its boundary there is (1) the parts inside the face of A's cross-section by the plane (the segments where
- * A's triangles `crossing` cross it, A's inside on their left), each segment cut by the face's edges, and (2) the
- * parts of the face's edges inside A, which start where the cross-section leaves the face and end where it enters
- * it, or are the whole edges when it crosses none and a corner is inside A (its winding about that corner). Each
+ * by the plane, from poly_clip_mesh_section), inside A, wound about the face's outward normal. Its boundary there
+ * is (1) the parts inside the face of A's cross-section by the plane (the segments where A's triangles `crossing`
+ * cross it, A's inside on their left), each segment cut by the face's edges, and (2) the parts of the face's edges
+ * inside A, which start where the cross-section leaves the face and end where it enters it, or are the whole edges
+ * when it crosses none and a corner is inside A (its winding about that corner). Each
  * segment is summed on its own (a fan triangle from the face's first point), so a cross-section that is not convex
  * needs no bridges, and segments of triangles wholly outside a plane of the piece are not made at all; every point
  * summed is a corner of the intersection, kept for the depth. Returns 0 when the crossings along the edges do not
