@@ -127,11 +127,34 @@ POLY_INLINE int POLY_FN(grid_candidates)(const POLY_FN(grid) *g, POLY_FN(overlap
 }
 
 /* The triangles of `kept_list` whose box meets [low, high], in its order and without a branch per triangle (most
- * miss, unpredictably), into `near_list`; returns how many. */
+ * miss, unpredictably), into `near_list`; returns how many. In double on a core, each box's six comparisons as
+ * three SSE2 pairs (boxes_overlap's comparisons, so the same answers): a fifth to a quarter of the crossing search
+ * of rock_40 and rock_70 pairs was this loop. */
 POLY_INLINE int POLY_FN(near_triangles)(const R *bounds, const int *kept_list, int num_kept, const R *low,
                                         const R *high, int *near_list)
 {
   int count = 0;
+#if defined(__SSE2__) && !defined(__CUDACC__)
+  if (sizeof(R) == sizeof(double)) {
+    const double *lo = (const double *)low, *hi = (const double *)high, *b = (const double *)bounds;
+    /* A box misses where box.low > high or low > box.high on some axis: (box.lx, box.ly) > (hx, hy),
+     * (box.lz, lx) > (hz, box.hx) and (ly, lz) > (box.hy, box.hz). */
+    const __m128d high_xy = _mm_loadu_pd(hi), high_z = _mm_set_sd(hi[2]), low_x = _mm_set1_pd(lo[0]);
+    const __m128d low_yz = _mm_loadu_pd(lo + 1);
+    for (int n = 0; n < num_kept; n++) {
+      const int t = kept_list[n];
+      const double *box = b + 6 * t;
+      const __m128d low_z_high_x = _mm_loadu_pd(box + 2);
+      const __m128d miss = _mm_or_pd(
+          _mm_or_pd(_mm_cmpgt_pd(_mm_loadu_pd(box), high_xy),
+                    _mm_cmpgt_pd(_mm_move_sd(low_x, low_z_high_x), _mm_move_sd(low_z_high_x, high_z))),
+          _mm_cmpgt_pd(low_yz, _mm_loadu_pd(box + 4)));
+      near_list[count] = t;
+      count += _mm_movemask_pd(miss) == 0;
+    }
+    return count;
+  }
+#endif
   for (int n = 0; n < num_kept; n++) {
     int t = kept_list[n];
     near_list[count] = t;
