@@ -424,8 +424,7 @@ bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count
                    char *message, size_t size)
 {
   typedef Narrow<Precision> N;
-  WarpLimits limits = {state.shapes.max_vertices, state.shapes.max_triangles, max_shape_edges(), 0, 0, 32};
-  limits.records = 4 * limits.triangles + 64;
+  WarpLimits limits = largest_shape_limits(0, 0, 0);
   const size_t bytes =
       (N::warp_layout(NULL, NULL, limits.vertices, limits.triangles, limits.edges, limits.records) + 255) / 256 * 256;
   const size_t budget = (size_t)1 << 30;
@@ -588,11 +587,13 @@ const DeviceShapes *poly_gpu_detail::device_shapes()
   return state.ready ? &state.shapes : NULL;
 }
 
-int poly_gpu_detail::max_shape_edges()
+WarpLimits poly_gpu_detail::largest_shape_limits(int min_vertices, int min_triangles, int min_edges)
 {
-  int edges = 0;
-  for (size_t n = 2; n < state.host_counts.size(); n += 3) edges = std::max(edges, state.host_counts[n]);
-  return edges;
+  WarpLimits limits = {std::max(state.shapes.max_vertices, min_vertices),
+                       std::max(state.shapes.max_triangles, min_triangles), min_edges, 0, 0, 32};
+  for (size_t n = 2; n < state.host_counts.size(); n += 3) limits.edges = std::max(limits.edges, state.host_counts[n]);
+  limits.records = 4 * limits.triangles + 64;
+  return limits;
 }
 
 WarpLimits poly_gpu_detail::warp_limits(int precision, int min_vertices, int min_triangles, int min_edges)

@@ -259,9 +259,12 @@ inline bool warp_launch(Kernel kernel, const WarpLimits &limits, WarpLaunch *lau
                "warp kernel shared memory", message, size);
 }
 
-// The shapes uploaded by poly_gpu_init (NULL before it), and the most edges of one of them.
+// The shapes uploaded by poly_gpu_init (NULL before it).
 const DeviceShapes *device_shapes();
-int max_shape_edges();
+
+// The limits of a warp block in global memory for every uploaded shape (each count at least the minimum given):
+// the largest counts, their records, 32 lanes; bytes left 0 for the caller's layout.
+WarpLimits largest_shape_limits(int min_vertices, int min_triangles, int min_edges);
 
 // For the shapes of poly_gpu_init in a precision: the warp kernels' limits, each count at least the minimum
 // given (a wall's prism: 6 vertices, 8 triangles, 12 edges); POLY_GPU_WALL_KERNEL (0 unset, 1 thread, 2 warp).

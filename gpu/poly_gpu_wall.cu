@@ -270,9 +270,7 @@ bool large_pieces_by_warp(const DeviceShapes &shapes, const int *list, int count
 {
   typedef typename Narrow<Precision>::Real Real;
   if (count == 0) return true;
-  WarpLimits limits = {std::max(shapes.max_vertices, kPrismVertices), std::max(shapes.max_triangles, kPrismTriangles),
-                       std::max(max_shape_edges(), kPrismEdges), 0, 0, 32};
-  limits.records = 4 * limits.triangles + 64;
+  WarpLimits limits = largest_shape_limits(kPrismVertices, kPrismTriangles, kPrismEdges);
   const size_t prism_bytes = (kPrismReals * sizeof(Real) + 15) / 16 * 16;
   const size_t bytes = (Narrow<Precision>::warp_layout(NULL, NULL, limits.vertices, limits.triangles, limits.edges,
                                                        limits.records) + prism_bytes + 255) / 256 * 256;
