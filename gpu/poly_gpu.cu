@@ -68,6 +68,7 @@ struct State {
   bool any_clip;                    // some shape has faces for the clipping path (poly_clip.h)
   bool any_pieces;                  // some such shape is not convex (several pieces): the warp clipping kernel
   ClipWarpLimits clip_limits;       // its shared block per warp, for the uploaded shapes
+  ClipWarpLimits clip_limits_single;  // the same with the faces clipped in single (mixed precision)
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
   DeviceArray<PairGeometry> results;
@@ -360,6 +361,7 @@ void free_shapes(DeviceShapes &s)
   cudaFree(s.clip_triangle); cudaFree(s.clip_piece_front); cudaFree(s.clip_piece_back);
   cudaFree(s.clip_piece_point_start); cudaFree(s.clip_piece_points); cudaFree(s.clip_piece_face_start);
   cudaFree(s.clip_piece_faces); cudaFree(s.clip_vertices); cudaFree(s.clip_face_plane);
+  cudaFree(s.clip_vertices_f); cudaFree(s.clip_planes_f);
   memset(&s, 0, sizeof s);
 }
 
@@ -430,6 +432,17 @@ bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count
   const size_t budget = (size_t)1 << 30;
   size_t batch = std::min((size_t)count, budget / bytes);
   if (batch == 0) return thread_per_pair<Precision>(settings, list, count, device_results, message, size, false);
+  // Blocks for four times the warps the device runs at once, at least 4096 (fewer pairs a launch measured no
+  // faster from about that many down to 2000, and slower below): a deck of 70-triangle rocks (29 KB a pair) then
+  // takes a few hundred MiB of the budget instead of all of it; rock_1000's blocks fill the budget before that.
+  int device = 0, sms = 0, blocks_per_sm = 0;
+  if (!check(cudaGetDevice(&device), "cudaGetDevice", message, size) ||
+      !check(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device), "cudaDeviceGetAttribute", message,
+             size) ||
+      !check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, warp_contact_kernel<Precision>, kThreads, 0),
+             "cudaOccupancyMaxActiveBlocksPerMultiprocessor", message, size))
+    return false;
+  batch = std::min(batch, std::max((size_t)4096, (size_t)4 * sms * blocks_per_sm * (kThreads / 32)));
   limits.bytes = (int)bytes;
   if (!ensure(state.scratch, batch * bytes, message, size) || !ensure(state.handed_large, count, message, size) ||
       !check(cudaMemset(state.counters.data + 2, 0, sizeof(int)), "cudaMemset", message, size))
@@ -540,14 +553,18 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
               state.motion.data, state.materials.data, state.num_types, settings, state.contact.data,
               state.history.data, state.slot.data, state.pair_force.data, device_results, state.counters.data,
               state.handed_back.data);
-    else
-      clip_warp_kernel<<<(num_touching + POLY_CLIP_WARPS * state.clip_limits.pairs - 1) /
-                             (POLY_CLIP_WARPS * state.clip_limits.pairs), 32 * POLY_CLIP_WARPS,
-                         POLY_CLIP_WARPS * state.clip_limits.bytes>>>(
-          s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
-          state.motion.data, state.materials.data, state.num_types, settings, state.contact.data, state.history.data,
-          state.slot.data, state.pair_force.data, device_results, state.counters.data, state.handed_back.data,
-          state.clip_limits);
+    else {
+      // In mixed precision the faces are clipped in single (POLY_GPU_MIXED_CLIP=double: in double).
+      const bool single = Precision == POLY_PRECISION_MIXED && state.options.mixed_clip != 2;
+      const ClipWarpLimits &limits = single ? state.clip_limits_single : state.clip_limits;
+      (single ? clip_warp_kernel<float> : clip_warp_kernel<double>)
+          <<<(num_touching + POLY_CLIP_WARPS * limits.pairs - 1) / (POLY_CLIP_WARPS * limits.pairs),
+             32 * POLY_CLIP_WARPS, POLY_CLIP_WARPS * limits.bytes>>>(
+              s, state.touching.data, num_touching, state.pair_i.data, state.pair_j.data, state.particles.data,
+              state.motion.data, state.materials.data, state.num_types, settings, state.contact.data,
+              state.history.data, state.slot.data, state.pair_force.data, device_results, state.counters.data,
+              state.handed_back.data, limits);
+    }
     int num_handed = 0;
     if (!check(cudaGetLastError(), "clip kernel launch", message, size) ||
         !check(cudaMemcpy(&num_handed, state.counters.data + 2, sizeof(int), cudaMemcpyDeviceToHost), "clip kernel",
@@ -661,6 +678,7 @@ static int read_count(const char *name, long fallback, long *out, char *message,
 extern "C" int poly_gpu_environment(poly_gpu_options *options, char *message, size_t message_size)
 {
   const char *kernels[2] = {"thread", "warp"}, *lanes[3] = {"8", "16", "32"};
+  const char *clip_precisions[2] = {"single", "double"};
   const int kernel_values[2] = {1, 2}, lane_values[3] = {8, 16, 32};
   if (read_choice("POLY_GPU_PAIR_KERNEL", kernels, kernel_values, 2, "thread or warp", &options->pair_kernel, message,
                   message_size) ||
@@ -670,6 +688,8 @@ extern "C" int poly_gpu_environment(poly_gpu_options *options, char *message, si
                   message_size) ||
       read_choice("POLY_GPU_CLIP_KERNEL", kernels, kernel_values, 2, "thread or warp", &options->clip_kernel, message,
                   message_size) ||
+      read_choice("POLY_GPU_MIXED_CLIP", clip_precisions, kernel_values, 2, "single or double", &options->mixed_clip,
+                  message, message_size) ||
       read_count("POLY_GPU_MIN_PAIRS", POLY_GPU_DEFAULT_MIN_PAIRS, &options->min_pairs, message, message_size) ||
       read_count("POLY_GPU_MIN_PIECES", POLY_GPU_DEFAULT_MIN_PIECES, &options->min_pieces, message, message_size))
     return -1;
@@ -687,7 +707,7 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
   std::vector<int> first_plane, first_face, first_start, first_corner, first_piece, first_point_start, first_face_start,
       first_point, first_piece_face;
   state.any_clip = state.any_pieces = false;
-  ClipWarpLimits limits = {0, 0, 0, 1, 0};
+  ClipWarpLimits limits = {0, 0, 0, 1, 0, 0};
   for (int i = 0; i < num_shapes; i++) {
     const poly_shape *shape = shapes[i];
     first_plane.push_back((int)planes.size() / 4);
@@ -733,7 +753,10 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
       !upload_raw(&s.clip_piece_face_start, face_start, message, message_size) ||
       !upload_raw(&s.clip_piece_faces, faces, message, message_size) ||
       !upload_raw(&s.clip_vertices, clip_vertices, message, message_size) ||
-      !upload_raw(&s.clip_face_plane, face_plane, message, message_size))
+      !upload_raw(&s.clip_face_plane, face_plane, message, message_size) ||
+      !upload_raw(&s.clip_vertices_f, std::vector<float>(clip_vertices.begin(), clip_vertices.end()), message,
+                  message_size) ||
+      !upload_raw(&s.clip_planes_f, std::vector<float>(planes.begin(), planes.end()), message, message_size))
     return false;
   int device = 0, shared_per_sm = 0, reserved_per_block = 0;
   if (!check(cudaGetDevice(&device), "cudaGetDevice", message, message_size) ||
@@ -742,11 +765,19 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
       !check(cudaDeviceGetAttribute(&reserved_per_block, cudaDevAttrReservedSharedMemoryPerBlock, device),
              "cudaDeviceGetAttribute", message, message_size))
     return false;
+  ClipWarpLimits single = limits;
+  single.single = 1;
   clip_warp_pairs(&limits, (size_t)shared_per_sm, (size_t)reserved_per_block);
+  clip_warp_pairs(&single, (size_t)shared_per_sm, (size_t)reserved_per_block);
   state.clip_limits = limits;
+  state.clip_limits_single = single;
   if (state.any_pieces &&
-      !check(cudaFuncSetAttribute(clip_warp_kernel, cudaFuncAttributeMaxDynamicSharedMemorySize,
-                                  (int)(POLY_CLIP_WARPS * limits.bytes)), "cudaFuncSetAttribute", message, message_size))
+      (!check(cudaFuncSetAttribute(clip_warp_kernel<double>, cudaFuncAttributeMaxDynamicSharedMemorySize,
+                                   (int)(POLY_CLIP_WARPS * limits.bytes)), "cudaFuncSetAttribute", message,
+              message_size) ||
+       !check(cudaFuncSetAttribute(clip_warp_kernel<float>, cudaFuncAttributeMaxDynamicSharedMemorySize,
+                                   (int)(POLY_CLIP_WARPS * single.bytes)), "cudaFuncSetAttribute", message,
+              message_size)))
     return false;
   std::vector<poly_clip_faces> clip(num_shapes);
   for (int i = 0; i < num_shapes; i++) {

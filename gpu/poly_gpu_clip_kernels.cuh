@@ -54,11 +54,13 @@ __global__ void __launch_bounds__(kThreads)
                    counters);
 }
 
-// A warp per limits.pairs pairs of `list` whose shapes both have clip faces, in double: each pair's overlap
+// A warp per limits.pairs pairs of `list` whose shapes both have clip faces, the faces clipped in Real (float:
+// mixed precision, limits.single) and summed in double: each pair's overlap
 // by the clipping path spread over the warp's lanes (poly_gpu_clip_warp.cuh), one pair after the other, then the
 // contact law of each on a lane of its own (on one lane per pair it held 8 % of the kernel's stall samples, the
 // other lanes idle: doc/benchmarks.md); what the warp does not take goes to `handed_back`, as from
 // clip_contact_kernel.
+template <typename Real>
 __global__ void __launch_bounds__(32 * POLY_CLIP_WARPS, POLY_CLIP_WARP_MIN_BLOCKS)
     clip_warp_kernel(DeviceShapes shapes, const int *__restrict__ list, int count, const int *__restrict__ pair_i,
                      const int *__restrict__ pair_j, const poly_gpu_particle *__restrict__ particles,
@@ -81,9 +83,12 @@ __global__ void __launch_bounds__(32 * POLY_CLIP_WARPS, POLY_CLIP_WARP_MIN_BLOCK
     const poly_clip_faces faces_i = shapes.clip[pair.body_i->shape], faces_j = shapes.clip[pair.body_j->shape];
     poly_clip_result clip;
     const int handed = faces_i.num_faces == 0 || faces_j.num_faces == 0 ||
-                       clip_warp_overlap(faces_i, faces_j, pair.rotation, pair.translation,
-                                         shapes.radius[pair.body_i->shape] + shapes.radius[pair.body_j->shape],
-                                         settings.rocking, memory, &clip);
+                       clip_warp_overlap<Real>(faces_i, faces_j,
+                                               shapes.clip_vertices_f + (faces_i.vertices - shapes.clip_vertices),
+                                               shapes.clip_planes_f + (faces_i.planes - shapes.clip_planes),
+                                               pair.rotation, pair.translation,
+                                               shapes.radius[pair.body_i->shape] + shapes.radius[pair.body_j->shape],
+                                               settings.rocking, memory, &clip);
     __syncwarp();  // the next pair rewrites the warp's block
     if (lane == 0) {
       if (handed) clip.num_nodes = -1;

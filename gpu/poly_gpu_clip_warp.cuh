@@ -1,5 +1,6 @@
-/* The clipping path (src/poly_clip.h) with one warp per pair, in double: the
- * same pieces, masks, clipping and sums as the host's poly_clip_overlap, with
+/* The clipping path (src/poly_clip.h) with one warp per pair, in double (in
+ * mixed precision the faces clipped in single and summed in double, as the
+ * general path's mixed precision does): the same pieces, masks, clipping and sums as the host's poly_clip_overlap, with
  * the loops spread over the lanes instead of one thread running them all (the
  * one-thread clip_contact_kernel's warps idle most lanes while one thread
  * clips many polygons; a pair of Schoenhardt polyhedra clips 20-30 faces):
@@ -41,10 +42,12 @@ struct ClipWarpLimits {
   int vertices, planes, pieces;
   int pairs;  /* pairs a warp clips one after the other, then finishes on as many lanes (clip_warp_pairs) */
   size_t bytes;
+  int single; /* the faces clipped in single precision (mixed): B's points and planes in float too */
 };
 
 struct ClipWarpMemory {
   double *xb, *planes_b, *nodes;
+  float *xb_f, *planes_b_f;   /* with limits.single */
   poly_clip_mask *ahead_a, *behind_a, *ahead_b, *behind_b;
   poly_clip_mask *piece_ahead_a, *piece_behind_a, *piece_ahead_b, *piece_behind_b;
   int *items;
@@ -57,7 +60,9 @@ static __host__ __device__ inline size_t clip_warp_layout(ClipWarpMemory *m, cha
   const size_t points = (size_t)limits.vertices + 1;
   size_t doubles = 3 * points + 4 * (size_t)limits.planes + 3 * POLY_CLIP_WARP_NODES;
   size_t masks = 4 * points + 4 * (size_t)limits.pieces;
-  size_t bytes = sizeof(double) * doubles + sizeof(poly_clip_mask) * masks + sizeof(int) * POLY_CLIP_WARP_ITEMS;
+  size_t floats = limits.single ? 3 * points + 4 * (size_t)limits.planes : 0;
+  size_t bytes = sizeof(double) * doubles + sizeof(poly_clip_mask) * masks + sizeof(float) * floats +
+                 sizeof(int) * POLY_CLIP_WARP_ITEMS;
   bytes = (bytes + 15) / 16 * 16;
   const size_t results_at = bytes;
   bytes += sizeof(poly_clip_result) * limits.pairs;
@@ -76,7 +81,10 @@ static __host__ __device__ inline size_t clip_warp_layout(ClipWarpMemory *m, cha
   m->xb = d; d += 3 * points;
   m->planes_b = d; d += 4 * limits.planes;
   m->nodes = d; d += 3 * POLY_CLIP_WARP_NODES;
-  m->items = (int *)d;
+  float *f = (float *)d;
+  m->xb_f = f; f += limits.single ? 3 * points : 0;
+  m->planes_b_f = f; f += limits.single ? 4 * (size_t)limits.planes : 0;
+  m->items = (int *)f;
   m->results = (poly_clip_result *)(memory + results_at);
   return bytes;
 }
@@ -102,19 +110,46 @@ static __device__ __forceinline__ int clip_item(int face, int of_a, int piece)
   return (piece << 8) | (of_a << 7) | face;
 }
 
-/* Item `item`'s face clipped by its piece (poly_clip_face_by_piece): the corner count, -1 when the polygon outgrew
- * the lane's work buffers, and in *result the buffer holding the corners. */
+/* The points and planes the faces are clipped with, in A's frame: A's own (the shape's) and B's (the warp's block),
+ * in double, or in float for mixed precision. */
+template <typename Real> struct ClipWarpCoordinates {
+  const Real *a_vertices, *a_planes, *xb, *planes_b;
+};
+
+static __device__ __forceinline__ int clip_warp_by_planes(double *in, double *out, int count, const double *planes,
+                                                          poly_clip_mask cut, poly_clip_mask back, double **result)
+{
+  return poly_clip_by_planes(in, out, count, planes, cut, back, POLY_CLIP_WARP_POLYGON, result);
+}
+
+static __device__ __forceinline__ int clip_warp_by_planes(float *in, float *out, int count, const float *planes,
+                                                          poly_clip_mask cut, poly_clip_mask back, float **result)
+{
+  return poly_clip_by_planes_f(in, out, count, planes, cut, back, POLY_CLIP_WARP_POLYGON, result);
+}
+
+/* Item `item`'s face clipped by its piece (poly_clip_face_by_piece, in Real): the corner count, -1 when the polygon
+ * outgrew the lane's work buffers, and in *result the buffer holding the corners. */
+template <typename Real>
 static __device__ __forceinline__ int clip_warp_item(int item, const poly_clip_faces &a, const poly_clip_faces &b,
-                                                     const ClipWarpMemory &m, double (*work)[3 * POLY_CLIP_WARP_POLYGON],
-                                                     double **result)
+                                                     const ClipWarpMemory &m, const ClipWarpCoordinates<Real> &at,
+                                                     Real (*work)[3 * POLY_CLIP_WARP_POLYGON], Real **result)
 {
   const int face = item & 127, of_a = (item >> 7) & 1, piece = item >> 8;
-  const poly_clip_faces &other = of_a ? b : a;
-  return poly_clip_face_by_piece(of_a ? &a : &b, face, of_a ? a.vertices : m.xb, of_a ? m.ahead_a : m.ahead_b,
-                                 of_a ? m.behind_a : m.behind_b, of_a ? m.planes_b : a.planes,
-                                 poly_clip_mask_of(other.piece_front + piece), poly_clip_mask_of(other.piece_back + piece),
-                                 work[0], work[1],
-                                 POLY_CLIP_WARP_POLYGON, result);
+  const poly_clip_faces &body = of_a ? a : b, &other = of_a ? b : a;
+  const poly_clip_mask front = poly_clip_mask_of(other.piece_front + piece),
+                       back = poly_clip_mask_of(other.piece_back + piece);
+  poly_clip_mask all_out;
+  const poly_clip_mask some_out = poly_clip_face_cuts(&body, face, of_a ? m.ahead_a : m.ahead_b,
+                                                      of_a ? m.behind_a : m.behind_b, front, back, &all_out);
+  if (all_out) return 0;
+  const int *loop = body.loop + body.loop_start[face];
+  const int count = body.loop_start[face + 1] - body.loop_start[face];
+  if (count > POLY_CLIP_WARP_POLYGON) return -1;
+  const Real *x = of_a ? at.a_vertices : at.xb;
+  for (int c = 0; c < count; c++)
+    for (int k = 0; k < 3; k++) work[0][3 * c + k] = x[3 * loop[c] + k];
+  return clip_warp_by_planes(work[0], work[1], count, of_a ? at.planes_b : at.a_planes, some_out, back, result);
 }
 
 /* Does some of item `item`'s face lie inside its piece's planes (poly_clip_face_cuts)? */
@@ -130,11 +165,20 @@ static __device__ __forceinline__ bool clip_warp_item_meets(int item, const poly
   return !all_out;
 }
 
-/* The overlap of pair (a, b) on the calling warp; returns 1 when the pair must go to the one-thread kernel. */
-static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_clip_faces &b, const double *rotation,
-                                        const double *translation, double size, int want_second, const ClipWarpMemory &m,
-                                        poly_clip_result *out)
+/* The overlap of pair (a, b) on the calling warp, its faces clipped in Real (A's points and planes in float at
+ * `a_vertices_f` and `a_planes_f` for float) and summed in double; returns 1 when the pair must go to the
+ * one-thread kernel. */
+template <typename Real>
+static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_clip_faces &b, const float *a_vertices_f,
+                                        const float *a_planes_f, const double *rotation, const double *translation,
+                                        double size, int want_second, const ClipWarpMemory &m, poly_clip_result *out)
 {
+  const bool single = sizeof(Real) == sizeof(float);
+  ClipWarpCoordinates<Real> at;
+  at.a_vertices = single ? (const Real *)a_vertices_f : (const Real *)a.vertices;
+  at.a_planes = single ? (const Real *)a_planes_f : (const Real *)a.planes;
+  at.xb = single ? (const Real *)m.xb_f : (const Real *)m.xb;
+  at.planes_b = single ? (const Real *)m.planes_b_f : (const Real *)m.planes_b;
   const unsigned full = 0xffffffffu;
   const int lane = threadIdx.x & 31, na = a.num_vertices, nb = b.num_vertices;
   const double flush = POLY_CLIP_FLUSH * size;
@@ -148,11 +192,15 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
     if (v < nb) poly_matrix_apply(rotation, b.vertices + 3 * v, x);
     else x[0] = x[1] = x[2] = 0.0;
     for (int k = 0; k < 3; k++) x[k] += translation[k];
+    if (single)
+      for (int k = 0; k < 3; k++) m.xb_f[3 * v + k] = (float)x[k];
   }
   for (int f = lane; f < b.num_planes; f += 32) {
     double *plane = m.planes_b + 4 * f;
     poly_matrix_apply(rotation, b.planes + 4 * f, plane);
     plane[3] = b.planes[4 * f + 3] + plane[0] * translation[0] + plane[1] * translation[1] + plane[2] * translation[2];
+    if (single)
+      for (int k = 0; k < 4; k++) m.planes_b_f[4 * f + k] = (float)plane[k];
   }
   __syncwarp();
   // A point per lane: its masks of the other body's planes (a plane per lane with ballots measured slower).
@@ -247,7 +295,7 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
   num_items = left;
   __syncwarp();
   // 3. An item per lane: clipped, summed from the common corner, its corners kept.
-  double work[2][3 * POLY_CLIP_WARP_POLYGON];
+  Real work[2][3 * POLY_CLIP_WARP_POLYGON];
   poly_clip_sums sums;
   sums.volume6 = sums.area = 0.0;
   for (int k = 0; k < 3; k++) sums.moment24[k] = sums.area_vector[k] = 0.0;
@@ -257,19 +305,28 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
   int have_reference = 0, corners = 0, kept = 0, overflow = 0;
   for (int first = 0; first < num_items; first += 32) {
     const int it = first + lane;
-    double *polygon = NULL;
-    const int n = it < num_items ? clip_warp_item(m.items[it], a, b, m, work, &polygon) : 0;
+    Real *polygon = NULL;
+    const int n = it < num_items ? clip_warp_item(m.items[it], a, b, m, at, work, &polygon) : 0;
     if (__any_sync(full, n < 0)) return 1;
     const unsigned with = __ballot_sync(full, n > 0);
     if (!with) continue;
     if (!have_reference) {
       const int leader = __ffs(with) - 1;
-      for (int k = 0; k < 3; k++) reference[k] = __shfl_sync(full, n > 0 ? polygon[k] : 0.0, leader);
+      for (int k = 0; k < 3; k++) reference[k] = __shfl_sync(full, n > 0 ? (double)polygon[k] : 0.0, leader);
       have_reference = 1;
     }
-    for (int c = 0; c < n; c++)
-      for (int k = 0; k < 3; k++) polygon[3 * c + k] -= reference[k];
-    if (n > 0) poly_clip_add_polygon(polygon, n, (m.items[it] >> 7) & 1, &sums);
+    // The fan from the polygon's first corner, each corner made relative to the common one in double as it comes
+    // (a float polygon stays float; in double the same values as the host's).
+    if (n > 0) {
+      const int on_a = (m.items[it] >> 7) & 1;
+      double p0[3], p1[3], p2[3];
+      for (int k = 0; k < 3; k++) p0[k] = (double)polygon[k] - reference[k], p1[k] = (double)polygon[3 + k] - reference[k];
+      for (int c = 2; c < n; c++) {
+        for (int k = 0; k < 3; k++) p2[k] = (double)polygon[3 * c + k] - reference[k];
+        poly_clip_add_triangle(p0, p1, p2, on_a, &sums);
+        for (int k = 0; k < 3; k++) p1[k] = p2[k];
+      }
+    }
     int before = n;
     for (int offset = 1; offset < 32; offset <<= 1) {
       int other = __shfl_up_sync(full, before, offset);
@@ -278,7 +335,8 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
     const int total = __shfl_sync(full, before, 31);
     before -= n;
     if (kept + total <= POLY_CLIP_WARP_NODES) {
-      for (int c = 0; c < 3 * n; c++) m.nodes[3 * (kept + before) + c] = polygon[c];
+      for (int c = 0; c < 3 * n; c++)
+        m.nodes[3 * (kept + before) + c] = (double)polygon[c] - reference[c % 3];
       kept += total;
     } else {
       overflow = 1;
@@ -338,10 +396,10 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
   } else {
     for (int first = 0; first < num_items; first += 32) {
       const int it = first + lane;
-      double *polygon = NULL;
-      const int n = it < num_items ? clip_warp_item(m.items[it], a, b, m, work, &polygon) : 0;
+      Real *polygon = NULL;
+      const int n = it < num_items ? clip_warp_item(m.items[it], a, b, m, at, work, &polygon) : 0;
       for (int c = 0; c < n; c++) {
-        const double *x = polygon + 3 * c;
+        const Real *x = polygon + 3 * c;
         double along = n3[0] * (x[0] - reference[0]) + n3[1] * (x[1] - reference[1]) + n3[2] * (x[2] - reference[2]);
         low = fmin(low, along);
         high = fmax(high, along);

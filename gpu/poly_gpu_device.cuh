@@ -44,6 +44,7 @@ struct DeviceShapes {
   poly_clip_words *clip_piece_front, *clip_piece_back;  // per piece (poly_clip_faces)
   int *clip_piece_point_start, *clip_piece_points, *clip_piece_face_start, *clip_piece_faces;
   double *clip_vertices;      // per shape its clip vertices (poly_shape's, or its vertices)
+  float *clip_vertices_f, *clip_planes_f;  // the same in float (the warp clipping kernel in mixed precision)
   int *clip_face_plane;       // per clip face its plane's index among the shape's clip planes, or -1
 };
 

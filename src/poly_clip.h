@@ -40,20 +40,6 @@
 #include "poly_clip_polygon.h"
 #include "poly_rigid.h"
 
-POLY_INLINE int poly_clip_mask_lowest(poly_clip_mask mask)
-{
-#if defined(__CUDACC__) || defined(POLY_CLIP_WIDE_MASKS)
-  unsigned long long low = (unsigned long long)mask, high = (unsigned long long)(mask >> 64);
-#else
-  unsigned long long low = mask, high = 0;
-#endif
-#ifdef __CUDA_ARCH__
-  return low ? __ffsll((long long)low) - 1 : 64 + __ffsll((long long)high) - 1;
-#else
-  return low ? __builtin_ctzll(low) : 64 + __builtin_ctzll(high);
-#endif
-}
-
 POLY_INLINE poly_clip_mask poly_clip_mask_of(const poly_clip_words *words)
 {
 #if defined(__CUDACC__) || defined(POLY_CLIP_WIDE_MASKS)
@@ -141,26 +127,29 @@ typedef struct poly_clip_accumulator {
   double nodes[3 * POLY_CLIP_MAX_NODES];
 } poly_clip_accumulator;
 
+/* Adds the fan tetrahedron of triangle (p0, p1, p2) from the origin; with `on_a`, also its area vector and area. */
+POLY_INLINE void poly_clip_add_triangle(const double *p0, const double *p1, const double *p2, int on_a,
+                                        poly_clip_sums *sums)
+{
+  double det = p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) - p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) +
+               p0[2] * (p1[0] * p2[1] - p1[1] * p2[0]);
+  sums->volume6 += det;
+  for (int k = 0; k < 3; k++) sums->moment24[k] += det * (p0[k] + p1[k] + p2[k]);
+  if (sums->want_second) poly_second_moment_add(sums->second120, det, p0, p1, p2);
+  if (on_a) {
+    double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+    double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    for (int k = 0; k < 3; k++) sums->area_vector[k] += 0.5 * c[k];
+    sums->area += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  }
+}
+
 /* Adds a boundary polygon (outward counter-clockwise) as fan tetrahedra from the origin; with `on_a`, also
  * its area vector and area (A's surface inside B). */
 POLY_INLINE void poly_clip_add_polygon(const double *polygon, int count, int on_a, poly_clip_sums *sums)
 {
-  const double *p0 = polygon;
-  for (int i = 1; i + 1 < count; i++) {
-    const double *p1 = polygon + 3 * i, *p2 = polygon + 3 * (i + 1);
-    double det = p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) - p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) +
-                 p0[2] * (p1[0] * p2[1] - p1[1] * p2[0]);
-    sums->volume6 += det;
-    for (int k = 0; k < 3; k++) sums->moment24[k] += det * (p0[k] + p1[k] + p2[k]);
-    if (sums->want_second) poly_second_moment_add(sums->second120, det, p0, p1, p2);
-    if (on_a) {
-      double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-      double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-      double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-      for (int k = 0; k < 3; k++) sums->area_vector[k] += 0.5 * c[k];
-      sums->area += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    }
-  }
+  for (int i = 1; i + 1 < count; i++) poly_clip_add_triangle(polygon, polygon + 3 * i, polygon + 3 * (i + 1), on_a, sums);
 }
 
 /* The extent of `count` corners along `normal`, widening [*low, *high]. In locals, two corners a turn: through the
@@ -521,22 +510,9 @@ POLY_INLINE int poly_clip_face_by_piece(const poly_clip_faces *body, int face, c
   const poly_clip_mask some_out = poly_clip_face_cuts(body, face, ahead, behind, front, back, &all_out);
   if (all_out) return 0;
   if (count > capacity) return -1;
-  double *in = work_in, *out = work_out;
-  int n = count;
   for (int c = 0; c < count; c++)
-    for (int k = 0; k < 3; k++) in[3 * c + k] = x[3 * loop[c] + k];
-  for (poly_clip_mask m = some_out; m && n >= 3; m &= m - 1) {
-    int k = poly_clip_mask_lowest(m);
-    const double *plane = planes + 4 * k;
-    double flipped[4] = {-plane[0], -plane[1], -plane[2], -plane[3]};
-    n = poly_clip_polygon(in, n, (back >> k) & 1 ? flipped : plane, out, capacity);
-    if (n < 0) return -1;
-    double *swap = in;
-    in = out;
-    out = swap;
-  }
-  *result = in;
-  return n >= 3 ? n : 0;
+    for (int k = 0; k < 3; k++) work_in[3 * c + k] = x[3 * loop[c] + k];
+  return poly_clip_by_planes(work_in, work_out, count, planes, some_out, back, capacity, result);
 }
 
 /* The faces `faces` of `body` clipped by a piece of the other body (as poly_clip_face_by_piece); each surviving

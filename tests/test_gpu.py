@@ -97,6 +97,7 @@ def test_gpu_style_without_gpu_is_a_clear_error(run_deck):
     ("POLY_GPU_PAIR_LANES", "12", "POLY_GPU_PAIR_LANES=12: expected 8, 16 or 32"),
     ("POLY_GPU_WALL_KERNEL", "lanes", "POLY_GPU_WALL_KERNEL=lanes: expected thread or warp"),
     ("POLY_GPU_CLIP_KERNEL", "block", "POLY_GPU_CLIP_KERNEL=block: expected thread or warp"),
+    ("POLY_GPU_MIXED_CLIP", "half", "POLY_GPU_MIXED_CLIP=half: expected single or double"),
     ("POLY_GPU_MIN_PAIRS", "-3", "POLY_GPU_MIN_PAIRS=-3: expected a whole number, 0 or more"),
     ("POLY_GPU_MIN_PIECES", "1e3", "POLY_GPU_MIN_PIECES=1e3: expected a whole number, 0 or more")])
 def test_bad_contact_kernel_choice_is_a_clear_error(run_deck, monkeypatch, variable, value, expected):
@@ -176,6 +177,28 @@ def test_both_clipping_kernels_agree_with_cpu(launcher, kernel):
     print(run.stdout)
     assert run.returncode == 0, run.stdout + run.stderr
     assert run.stdout.strip().endswith("OK")
+
+
+@needs_gpu
+@pytest.mark.parametrize("clip", ["single", "double"])
+def test_mixed_precision_clipping_in_single_and_in_double_agree_with_cpu(launcher, clip):
+    """In mixed precision the warp clipping kernel clips the faces in single and sums them in double (doc/gpu.md,
+    "Clipping"); POLY_GPU_MIXED_CLIP=double clips them in double, as the host's mixed precision does. Both within
+    the mixed tolerance (1e-4) of the host for 2000 pairs of every shape; Schoenhardt polyhedra (the warp kernel's
+    shape) differ from the host by float's rounding with single (more than 1e-9) and by double's without (less than
+    1e-10): the choice takes effect."""
+    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
+                          "2000", "mixed"], capture_output=True, text=True,
+                         env=dict(os.environ, POLY_GPU_MIXED_CLIP=clip))
+    print(run.stdout)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.strip().endswith("OK")
+    worst = float(re.search(r"^schoenhardt\.stl .*worst relative difference ([0-9.e+-]+)", run.stdout,
+                            re.MULTILINE).group(1))
+    if clip == "single":
+        assert 1e-9 < worst < 1e-4, worst
+    else:
+        assert worst < 1e-10, worst
 
 
 @needs_gpu
