@@ -3,9 +3,9 @@
 #
 #   bash tools/profile_gpu.sh [pairs] [precision] [shapes]
 #   bash tools/profile_gpu.sh 200000 double "schoenhardt rock_10 rock_40 cube tetrahedron"   (the defaults)
-#   bash tools/profile_gpu.sh --sass [pairs] [shape]     (where the warp clipping kernel's stall samples fall)
+#   bash tools/profile_gpu.sh --sass [pairs] [shape] [precision]   (where the warp clipping kernel's stall samples fall)
 #
-# --sass: ncu's SourceCounters of clip_warp_kernel on the bed pairs of one shape (default 200000, schoenhardt),
+# --sass: ncu's SourceCounters of clip_warp_kernel on the bed pairs of one shape (default 200000, schoenhardt, double),
 # its SASS page cut into windows of 250 instructions in program order, and per window holding at least 1 % of the
 # stall samples: that share, the warp instructions executed and the threads per instruction (32: none idle),
 # then the windows' five hottest instructions. Which source a window is (the clipping loop: its side products,
@@ -24,13 +24,14 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if [ "${1:-}" = "--sass" ]; then
   pairs="${2:-200000}"
   shape="${3:-schoenhardt}"
+  sass_precision="${4:-double}"
   command -v ncu > /dev/null || { echo "ncu (Nsight Compute) is not on the PATH" >&2; exit 1; }
   source "$root/tools/bench_gpu_common.sh"
-  echo "commit: $commit; $pairs bed pairs of $shape, double; clip_warp_kernel's stall samples by SASS window"
+  echo "commit: $commit; $pairs bed pairs of $shape, $sass_precision; clip_warp_kernel's stall samples by SASS window"
   work="$(mktemp -d)"
   trap 'rm -rf "$work"' EXIT
   ncu --clock-control none --kernel-name clip_warp_kernel --launch-skip 1 --launch-count 1 --section SourceCounters \
-    -o "$work/report" "$root/build/tests/gpu_agreement" "$root/examples/shapes" "$pairs" double bed "$shape" > /dev/null
+    -o "$work/report" "$root/build/tests/gpu_agreement" "$root/examples/shapes" "$pairs" "$sass_precision" bed "$shape" > /dev/null
   ncu -i "$work/report.ncu-rep" --page source --csv --print-source sass > "$work/sass.csv"
   exec /usr/bin/env python3 "$root/tools/profile_sass_windows.py" "$work/sass.csv"
 fi
