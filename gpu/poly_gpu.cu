@@ -427,6 +427,8 @@ bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count
 {
   typedef Narrow<Precision> N;
   WarpLimits limits = largest_shape_limits(0, 0, 0);
+  if (state.options.pair_lanes) limits.lanes = state.options.pair_lanes;
+  const int groups = kThreads / limits.lanes;
   const size_t bytes =
       (N::warp_layout(NULL, NULL, limits.vertices, limits.triangles, limits.edges, limits.records) + 255) / 256 * 256;
   const size_t budget = (size_t)1 << 30;
@@ -442,12 +444,11 @@ bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count
       !check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, warp_contact_kernel<Precision>, kThreads, 0),
              "cudaOccupancyMaxActiveBlocksPerMultiprocessor", message, size))
     return false;
-  batch = std::min(batch, std::max((size_t)4096, (size_t)4 * sms * blocks_per_sm * (kThreads / 32)));
+  batch = std::min(batch, std::max((size_t)4096, (size_t)4 * sms * blocks_per_sm * groups));
   limits.bytes = (int)bytes;
   if (!ensure(state.scratch, batch * bytes, message, size) || !ensure(state.handed_large, count, message, size) ||
       !check(cudaMemset(state.counters.data + 2, 0, sizeof(int)), "cudaMemset", message, size))
     return false;
-  const int groups = kThreads / 32;
   for (size_t first = 0; first < (size_t)count; first += batch) {
     const int chunk = (int)std::min(batch, (size_t)count - first);
     warp_contact_kernel<Precision><<<(chunk + groups - 1) / groups, kThreads>>>(
