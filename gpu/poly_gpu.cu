@@ -69,6 +69,7 @@ struct State {
   bool any_pieces;                  // some such shape is not convex (several pieces): the warp clipping kernel
   ClipWarpLimits clip_limits;       // its shared block per warp, for the uploaded shapes
   ClipWarpLimits clip_limits_single;  // the same with the faces clipped in single (mixed precision)
+  ClipWarpLimits clip_limits_used;    // those of the last launch (poly_gpu_timings)
   std::vector<int> host_counts;     // per shape: vertices, triangles, edges
   DeviceArray<PairForce> pair_force;
   DeviceArray<PairGeometry> results;
@@ -434,9 +435,10 @@ bool large_by_warp(const poly_gpu_settings &settings, const int *list, int count
   const size_t budget = (size_t)1 << 30;
   size_t batch = std::min((size_t)count, budget / bytes);
   if (batch == 0) return thread_per_pair<Precision>(settings, list, count, device_results, message, size, false);
-  // Blocks for four times the warps the device runs at once, at least 4096 (fewer pairs a launch measured no
-  // faster from about that many down to 2000, and slower below): a deck of 70-triangle rocks (29 KB a pair) then
-  // takes a few hundred MiB of the budget instead of all of it; rock_1000's blocks fill the budget before that.
+  // Blocks for four times the pairs the device runs at once (its resident warps with 32 lanes a pair), at least
+  // 4096 (fewer pairs a launch measured no faster from about that many down to 2000, and slower below): a deck of
+  // 70-triangle rocks (29 KB a pair) then takes a few hundred MiB of the budget instead of all of it; rock_1000's
+  // blocks fill the budget before that.
   int device = 0, sms = 0, blocks_per_sm = 0;
   if (!check(cudaGetDevice(&device), "cudaGetDevice", message, size) ||
       !check(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device), "cudaDeviceGetAttribute", message,
@@ -541,8 +543,9 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
     device_results = state.results.data;
   }
   if (Precision != POLY_PRECISION_SINGLE && state.any_clip && num_touching > 0 && !state.options.pair_kernel) {
-    // Pairs of shapes with clip faces take the clipping path (in double, for mixed precision too, as on the host);
-    // the rest, and what it hands back, thread_per_pair.
+    // Pairs of shapes with clip faces take the clipping path (in double; in mixed precision the warp kernel clips
+    // the faces in single, the one-thread kernel in double as the host); the rest, and what it hands back,
+    // thread_per_pair.
     if (!ensure(state.handed_back, num_touching, message, size)) return false;
     // Pairs of convex shapes run faster one per thread (their few faces leave most of a warp idle); shapes of
     // several pieces one per warp (doc/benchmarks.md, "Clipping kernels").
@@ -558,6 +561,7 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
       // In mixed precision the faces are clipped in single (POLY_GPU_MIXED_CLIP=double: in double).
       const bool single = Precision == POLY_PRECISION_MIXED && state.options.mixed_clip != 2;
       const ClipWarpLimits &limits = single ? state.clip_limits_single : state.clip_limits;
+      state.clip_limits_used = limits;
       (single ? clip_warp_kernel<float> : clip_warp_kernel<double>)
           <<<(num_touching + POLY_CLIP_WARPS * limits.pairs - 1) / (POLY_CLIP_WARPS * limits.pairs),
              32 * POLY_CLIP_WARPS, POLY_CLIP_WARPS * limits.bytes>>>(
@@ -772,6 +776,8 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
   clip_warp_pairs(&single, (size_t)shared_per_sm, (size_t)reserved_per_block);
   state.clip_limits = limits;
   state.clip_limits_single = single;
+  const ClipWarpLimits none = {0, 0, 0, 0, 0, 0};
+  state.clip_limits_used = none;
   if (state.any_pieces &&
       (!check(cudaFuncSetAttribute(clip_warp_kernel<double>, cudaFuncAttributeMaxDynamicSharedMemorySize,
                                    (int)(POLY_CLIP_WARPS * limits.bytes)), "cudaFuncSetAttribute", message,
@@ -1028,8 +1034,9 @@ extern "C" poly_gpu_timing poly_gpu_timings(void)
 {
   poly_gpu_timing timing = state.timing;
   wall_timing(&timing);
-  timing.clip_warp_pairs = state.clip_limits.pairs;
-  timing.clip_warp_bytes = (long)state.clip_limits.bytes;
+  const ClipWarpLimits &limits = state.clip_limits_used.bytes ? state.clip_limits_used : state.clip_limits;
+  timing.clip_warp_pairs = limits.pairs;
+  timing.clip_warp_bytes = (long)limits.bytes;
   return timing;
 }
 
