@@ -248,7 +248,8 @@ def test_clip_polygon_matches_the_reference_step_and_its_capacity(tmp_path):
     an array of them (which on the GPU was local memory the warp kernel waited on, and on the host could be
     overrun by the partition's polygons of more than 32 corners), and takes its output's capacity. Against the
     array form on convex polygons of 3 to 48 corners clipped by up to 8 planes each: the same corners bit for bit,
-    the same with the capacity set to the corner count, -1 with one less (tests/unit/clip_polygon_check.c)."""
+    the same with the capacity set to the corner count, -1 with one less; the float instance likewise against the
+    array form in float (tests/unit/clip_polygon_check.c)."""
     if not shutil.which("gcc"):
         pytest.skip("skipped: no C compiler (a GPU host running a prebuilt tree)")
     binary = str(tmp_path / "clip_polygon_check")
@@ -258,6 +259,7 @@ def test_clip_polygon_matches_the_reference_step_and_its_capacity(tmp_path):
     counts = dict(zip(result.stdout.split()[0::2], map(int, result.stdout.split()[1::2])))
     assert counts["steps"] > 50000 and counts["grew"] > 1000, result.stdout  # the cases it is meant to cover
     assert counts["mismatches"] == 0 and counts["capacity_failures"] == 0, result.stdout
+    assert counts["float_mismatches"] == 0, result.stdout  # the float instance (the GPU's mixed clipping)
     assert result.returncode == 0, result.stdout + result.stderr
 
 

@@ -2,7 +2,9 @@
  * corners' sides in an array (the function's earlier form): convex polygons of 3 to 48 corners (more than that
  * array's 32) in random planes, clipped by random planes one after another. Each step must give the reference's
  * corners bit for bit; with its output's capacity set to the corner count it must give them too, and with one
- * less it must say -1. Prints the counts; exit status 1 on any failure. Run by tests/test_convex_path.py. */
+ * less it must say -1. The float instance (poly_clip_polygon_f) must give a float reference's corners bit for bit
+ * on the same polygons rounded to float. Prints the counts; exit status 1 on any failure. Run by
+ * tests/test_convex_path.py. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,29 +14,33 @@
 
 #define MAX_CORNERS 64
 
-static int reference_clip(const double *in, int count, const double *plane, double *out)
-{
-  double side[MAX_CORNERS];
-  for (int i = 0; i < count; i++)
-    side[i] = plane[0] * in[3 * i] + plane[1] * in[3 * i + 1] + plane[2] * in[3 * i + 2] - plane[3];
-  int n = 0;
-  for (int i = 0; i < count; i++) {
-    int j = i + 1 == count ? 0 : i + 1;
-    const double *p = in + 3 * i, *q = in + 3 * j;
-    double sp = side[i], sq = side[j];
-    if (sp <= 0.0) {
-      out[3 * n] = p[0], out[3 * n + 1] = p[1], out[3 * n + 2] = p[2];
-      n++;
-    }
-    if ((sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0)) {
-      double t = sp / (sp - sq);
-      out[3 * n] = p[0] + t * (q[0] - p[0]), out[3 * n + 1] = p[1] + t * (q[1] - p[1]),
-      out[3 * n + 2] = p[2] + t * (q[2] - p[2]);
-      n++;
-    }
+/* The reference step for a scalar type: the corners' sides in an array first. */
+#define REFERENCE_CLIP(name, real)                                                                                   \
+  static int name(const real *in, int count, const real *plane, real *out)                                           \
+  {                                                                                                                  \
+    real side[MAX_CORNERS];                                                                                          \
+    for (int i = 0; i < count; i++)                                                                                  \
+      side[i] = plane[0] * in[3 * i] + plane[1] * in[3 * i + 1] + plane[2] * in[3 * i + 2] - plane[3];               \
+    int n = 0;                                                                                                       \
+    for (int i = 0; i < count; i++) {                                                                                \
+      int j = i + 1 == count ? 0 : i + 1;                                                                            \
+      const real *p = in + 3 * i, *q = in + 3 * j;                                                                   \
+      real sp = side[i], sq = side[j];                                                                               \
+      if (sp <= 0) {                                                                                                 \
+        out[3 * n] = p[0], out[3 * n + 1] = p[1], out[3 * n + 2] = p[2];                                             \
+        n++;                                                                                                         \
+      }                                                                                                              \
+      if ((sp < 0 && sq > 0) || (sp > 0 && sq < 0)) {                                                                \
+        real t = sp / (sp - sq);                                                                                     \
+        out[3 * n] = p[0] + t * (q[0] - p[0]), out[3 * n + 1] = p[1] + t * (q[1] - p[1]),                            \
+        out[3 * n + 2] = p[2] + t * (q[2] - p[2]);                                                                   \
+        n++;                                                                                                         \
+      }                                                                                                              \
+    }                                                                                                                \
+    return n;                                                                                                        \
   }
-  return n;
-}
+REFERENCE_CLIP(reference_clip, double)
+REFERENCE_CLIP(reference_clip_f, float)
 
 static double uniform(void) { return rand() / (RAND_MAX + 1.0); }
 
@@ -70,7 +76,7 @@ static void random_polygon(int count, double *polygon)
 int main(void)
 {
   srand(12345);
-  long steps = 0, mismatches = 0, capacity_failures = 0, grew = 0;
+  long steps = 0, mismatches = 0, capacity_failures = 0, grew = 0, float_mismatches = 0;
   for (int trial = 0; trial < 20000; trial++) {
     const int count = 3 + trial % 46;
     double polygon[3 * MAX_CORNERS], mine[3 * MAX_CORNERS], theirs[3 * MAX_CORNERS], bounded[3 * MAX_CORNERS];
@@ -88,11 +94,20 @@ int main(void)
           memcmp(bounded, theirs, sizeof(double) * 3 * (size_t)expected) != 0)
         capacity_failures++;
       if (expected > 0 && poly_clip_polygon(polygon, n, plane, bounded, expected - 1) != -1) capacity_failures++;
+      /* The float instance (the GPU's mixed-precision clipping) on the same corners rounded to float. */
+      float polygon_f[3 * MAX_CORNERS], plane_f[4], mine_f[3 * MAX_CORNERS], theirs_f[3 * MAX_CORNERS];
+      for (int c = 0; c < 3 * n; c++) polygon_f[c] = (float)polygon[c];
+      for (int c = 0; c < 4; c++) plane_f[c] = (float)plane[c];
+      const int expected_f = reference_clip_f(polygon_f, n, plane_f, theirs_f);
+      if (poly_clip_polygon_f(polygon_f, n, plane_f, mine_f, MAX_CORNERS) != expected_f ||
+          memcmp(mine_f, theirs_f, sizeof(float) * 3 * (size_t)expected_f) != 0)
+        float_mismatches++;
       if (expected > n) grew++;
       memcpy(polygon, theirs, sizeof(double) * 3 * (size_t)expected);
       n = expected;
     }
   }
-  printf("steps %ld mismatches %ld capacity_failures %ld grew %ld\n", steps, mismatches, capacity_failures, grew);
-  return mismatches || capacity_failures ? 1 : 0;
+  printf("steps %ld mismatches %ld capacity_failures %ld grew %ld float_mismatches %ld\n", steps, mismatches,
+         capacity_failures, grew, float_mismatches);
+  return mismatches || capacity_failures || float_mismatches ? 1 : 0;
 }
