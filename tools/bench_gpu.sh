@@ -89,11 +89,13 @@ done
 echo
 echo "All 10 reference shapes uploaded (a deck with a large template beside small ones: the thread kernel's"
 echo "workspaces go to global memory), each shape's bed in turn: default choice, then the thread kernel forced"
+# One run after the other (two process substitutions under paste would run both at once on the one GPU).
 for precision in $precisions; do
-  paste -d ' ' <("$agreement" "$root/examples/shapes" "$pairs" "$precision" bed | grep "bed pairs\|FAIL" | \
-                   sed 's/ bed pairs.*GPU \([0-9.e+]*\) pairs\/s in the kernels.*/: default \1/') \
-               <(POLY_GPU_PAIR_KERNEL=thread "$agreement" "$root/examples/shapes" "$pairs" "$precision" bed | rate | \
-                   sed 's/^/thread /')
+  defaults="$("$agreement" "$root/examples/shapes" "$pairs" "$precision" bed | grep "bed pairs\|FAIL" | \
+              sed 's/ bed pairs.*GPU \([0-9.e+]*\) pairs\/s in the kernels.*/: default \1/')"
+  threads="$(POLY_GPU_PAIR_KERNEL=thread "$agreement" "$root/examples/shapes" "$pairs" "$precision" bed | rate | \
+             sed 's/^/thread /')"
+  paste -d ' ' <(echo "$defaults") <(echo "$threads")
 done
 for variant in "$variants_dir"/blocks*/tests/gpu_agreement "$variants_dir"/clipblocks*/tests/gpu_agreement; do
   [ -x "$variant" ] || continue
