@@ -264,24 +264,17 @@ POLY_INLINE int poly_clip_mesh_face(const poly_clip_faces *b, int face, const do
 }
 
 /* A's triangle `t` clipped by the planes of `cuts` (reversed for those of `back`) into `polygon` (room for
- * POLY_CLIP_MAX_POLYGON corners); returns the corner count, or -1 when it outgrows that. */
+ * POLY_CLIP_MAX_POLYGON corners; poly_clip_by_planes); returns the corner count (0: nothing left), or -1 when it
+ * outgrows that. */
 POLY_INLINE int poly_clip_mesh_clip_triangle(const poly_shape_view_d *a, int t, const double *planes, unsigned cuts,
                                              unsigned back, double *polygon)
 {
-  double work[3 * POLY_CLIP_MAX_POLYGON], *in = polygon, *out = work;
-  int n = 3;
+  double work[3 * POLY_CLIP_MAX_POLYGON], *result = polygon;
   for (int c = 0; c < 3; c++)
-    for (int k = 0; k < 3; k++) in[3 * c + k] = a->vertices[3 * a->triangles[3 * t + c] + k];
-  for (unsigned m = cuts; m && n >= 3; m &= m - 1) {
-    const int q = poly_clip_lowest_bit(m);
-    const double *cut = planes + 4 * q, flipped[4] = {-cut[0], -cut[1], -cut[2], -cut[3]};
-    n = poly_clip_polygon(in, n, (back >> q) & 1 ? flipped : cut, out, POLY_CLIP_MAX_POLYGON);
-    if (n < 0) return -1;
-    double *swap = in;
-    in = out, out = swap;
-  }
-  if (in != polygon)
-    for (int c = 0; c < 3 * n; c++) polygon[c] = in[c];
+    for (int k = 0; k < 3; k++) polygon[3 * c + k] = a->vertices[3 * a->triangles[3 * t + c] + k];
+  const int n = poly_clip_by_planes(polygon, work, 3, planes, cuts, back, POLY_CLIP_MAX_POLYGON, &result);
+  if (n > 0 && result != polygon)
+    for (int c = 0; c < 3 * n; c++) polygon[c] = result[c];
   return n;
 }
 

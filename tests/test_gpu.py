@@ -35,6 +35,18 @@ def gpu_available():
 needs_gpu = pytest.mark.skipif(not gpu_available(), reason="skipped: no GPU")
 
 
+def run_agreement(driver, *arguments, **environment):
+    """Runs build/tests/DRIVER (gpu_agreement or gpu_wall_agreement) on examples/shapes with `arguments` and the
+    given environment variables set; prints its output, which must end with OK (the driver's own checks passed),
+    and returns it."""
+    run = subprocess.run([str(ROOT / "build" / "tests" / driver), str(ROOT / "examples" / "shapes")] + list(arguments),
+                         capture_output=True, text=True, env=dict(os.environ, **environment))
+    print(run.stdout)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.strip().endswith("OK")
+    return run.stdout
+
+
 @pytest.fixture(autouse=True)
 def everything_on_the_gpu(monkeypatch):
     """These tests check the GPU's code, so no work goes back to the host however small (doc/gpu.md, "Small
@@ -135,11 +147,7 @@ def test_gpu_and_cpu_agree_pair_by_pair(launcher, precision):
     and 1e-4 in single and mixed (the driver exits non-zero above that; its header says which scale each
     quantity is measured against, e.g. grazing overlaps below 1e-3 of the particle volume). The
     per-particle force sums of the fast path must equal the per-pair forces exactly."""
-    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
-                          "10000", precision], capture_output=True, text=True)
-    print(run.stdout)
-    assert run.returncode == 0, run.stdout + run.stderr
-    assert run.stdout.strip().endswith("OK")
+    run_agreement("gpu_agreement", "10000", precision)
 
 
 @needs_gpu
@@ -149,15 +157,10 @@ def test_both_contact_kernels_agree_with_cpu(launcher, kernel, lanes):
     every shape that fits it (the warp kernel with 32 and with 8 lanes a pair, POLY_GPU_PAIR_LANES), against
     the host code in double (2000 pairs per shape, 1 in 8 with flush faces); the warp kernel hands the cube's
     flush pairs to the one-thread kernel, which must then be counted, and the thread kernel never hands any."""
-    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
-                          "2000", "double"], capture_output=True, text=True,
-                         env=dict(os.environ, POLY_GPU_PAIR_KERNEL=kernel, POLY_GPU_PAIR_LANES=lanes))
-    print(run.stdout)
-    assert run.returncode == 0, run.stdout + run.stderr
-    assert run.stdout.strip().endswith("OK")
+    stdout = run_agreement("gpu_agreement", "2000", "double", POLY_GPU_PAIR_KERNEL=kernel, POLY_GPU_PAIR_LANES=lanes)
     handed = {line.split()[0]: int(re.search(r"; (\d+) pairs handed", line).group(1))
-              for line in run.stdout.splitlines() if "pairs handed" in line}
-    assert len(handed) == 10, run.stdout
+              for line in stdout.splitlines() if "pairs handed" in line}
+    assert len(handed) == 10, stdout
     if kernel == "warp":
         assert handed["cube.stl"] > 0, handed
     else:
@@ -171,12 +174,7 @@ def test_both_clipping_kernels_agree_with_cpu(launcher, kernel):
     the shapes that have clip faces (cube, tetrahedron, box; Schoenhardt polyhedra and rock_10 through their
     convex pieces) against the host code in double, 2000 pairs per shape (1 in 8 with flush faces, which both
     hand to the one-thread kernel)."""
-    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
-                          "2000", "double"], capture_output=True, text=True,
-                         env=dict(os.environ, POLY_GPU_CLIP_KERNEL=kernel))
-    print(run.stdout)
-    assert run.returncode == 0, run.stdout + run.stderr
-    assert run.stdout.strip().endswith("OK")
+    run_agreement("gpu_agreement", "2000", "double", POLY_GPU_CLIP_KERNEL=kernel)
 
 
 @needs_gpu
@@ -188,12 +186,8 @@ def test_gpu_and_cpu_agree_on_shallow_contacts(launcher, precision):
     and a worst of 9e-2 and 3e-2 (the accuracy the pair style's page states for such contacts; in mixed
     the GPU clips in single where the host clips in double, so this bounds the faces' single clipping too), with
     the driver's usual checks."""
-    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
-                          "2000", precision, "shallow"], capture_output=True, text=True)
-    print(run.stdout)
-    assert run.returncode == 0, run.stdout + run.stderr
-    assert run.stdout.strip().endswith("OK")
-    assert run.stdout.count("shallow contacts") == 10, run.stdout
+    stdout = run_agreement("gpu_agreement", "2000", precision, "shallow")
+    assert stdout.count("shallow contacts") == 10, stdout
 
 
 @needs_gpu
@@ -204,13 +198,8 @@ def test_mixed_precision_clipping_in_single_and_in_double_agree_with_cpu(launche
     the mixed tolerance (1e-4) of the host for 2000 pairs of every shape; Schoenhardt polyhedra (the warp kernel's
     shape) differ from the host by float's rounding with single (more than 1e-9) and by double's without (less than
     1e-10): the choice takes effect."""
-    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_agreement"), str(ROOT / "examples" / "shapes"),
-                          "2000", "mixed"], capture_output=True, text=True,
-                         env=dict(os.environ, POLY_GPU_MIXED_CLIP=clip))
-    print(run.stdout)
-    assert run.returncode == 0, run.stdout + run.stderr
-    assert run.stdout.strip().endswith("OK")
-    worst = float(re.search(r"^schoenhardt\.stl .*worst relative difference ([0-9.e+-]+)", run.stdout,
+    stdout = run_agreement("gpu_agreement", "2000", "mixed", POLY_GPU_MIXED_CLIP=clip)
+    worst = float(re.search(r"^schoenhardt\.stl .*worst relative difference ([0-9.e+-]+)", stdout,
                             re.MULTILINE).group(1))
     if clip == "single":
         assert 1e-9 < worst < 1e-4, worst
@@ -357,12 +346,7 @@ def test_gpu_and_cpu_agree_on_mesh_wall_pieces(launcher, precision, kernel):
     (particle, prism) piece's V and centroid, and every particle's contact combined from its pieces and
     their nodes (V, centroid, normal, depth), within 1e-10 in double and 1e-4 in single and mixed (the
     driver exits non-zero above that; its header gives the scales)."""
-    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_wall_agreement"), str(ROOT / "examples" / "shapes"),
-                          "2000", precision], capture_output=True, text=True,
-                         env=dict(os.environ, POLY_GPU_WALL_KERNEL=kernel))
-    print(run.stdout)
-    assert run.returncode == 0, run.stdout + run.stderr
-    assert run.stdout.strip().endswith("OK")
+    run_agreement("gpu_wall_agreement", "2000", precision, POLY_GPU_WALL_KERNEL=kernel)
 
 
 @needs_gpu
@@ -372,11 +356,7 @@ def test_gpu_and_cpu_agree_on_large_shapes_mesh_wall_pieces(launcher, precision,
     """Shapes whose one-thread workspaces do not fit local memory take a warp per piece with its block in global
     memory (gpu/poly_gpu_wall.cu, large_pieces_by_warp), alone as in a deck of one template: 300 particles on
     the creased mesh, the same checks and tolerances as above."""
-    run = subprocess.run([str(ROOT / "build" / "tests" / "gpu_wall_agreement"), str(ROOT / "examples" / "shapes"),
-                          "300", precision, shape], capture_output=True, text=True)
-    print(run.stdout)
-    assert run.returncode == 0, run.stdout + run.stderr
-    assert run.stdout.strip().endswith("OK")
+    run_agreement("gpu_wall_agreement", "300", precision, shape)
 
 
 @needs_gpu
