@@ -35,14 +35,16 @@
  * boundary, one term per segment (Green's theorem), and the integrals over the triangle's part from those
  * and the triangle's plane z(x, y); for a nearly vertical triangle, whose plane is ill-conditioned as a
  * function of (x, y), the same boundary is lifted onto the triangle by interpolation and integrated in 3D.
- * A polygon corner inside the triangle thus costs one term.
+ * A polygon corner inside the triangle thus costs one term. An edge's crossings are found once, by the first of
+ * its two triangles met, and the other takes the same points (poly_cylinder_edge_memo).
  *
  * Before (commit 4644296), every crossing triangle was clipped (Sutherland-Hodgman) to the three half-planes
  * of each sector its part spans, a sector at a time, with sines and cosines for each sector, after angular
  * ranges from several atan2 per triangle. At the default sagitta (1e-6 of the particle's bounding radius) in
  * a drum of 10 particle diameters, N is 6000 to 8000 and a contact of 0.1-3 % of the particle's volume
  * spans 100 to 250 sector pieces: 8 to 69 us per contact on one core (tools/bench_cylinder.sh,
- * doc/benchmarks.md); now 1.3 to 16 us, with the same approximant and the same results to rounding. That
+ * doc/benchmarks.md); now 1.0 to 11 us (an AMD EPYC core), with the same approximant and the same results to
+ * rounding. That
  * computation is kept as poly_cylinder_overlap_reference, which tests/test_wall_cylinder.py compares with
  * poly_cylinder_overlap on random poses; it still does the triangles whose projection reaches the axis
  * (every sector: a particle across the axis of a drum or a pillar thinner than it). */
@@ -347,13 +349,19 @@ POLY_INLINE void poly_cylinder_crossing_pieces(const double (*p)[3], int facets,
  * by both its triangles, and an arc's end by the next triangle, so most are needed again; the same cos and sin
  * either way. */
 #define POLY_CYLINDER_MEMO 64
+/* Turns by 0 .. POLY_CYLINDER_TURNS steps, for an arc's corners: each corner is its block's first turned by
+ * one of them, so the corners do not wait on each other as they did when each was the last turned by a step. */
+#define POLY_CYLINDER_TURNS 64
 /* The polygon of one call: its facet count, angle step, facet distance h, corner radius h / cos(step / 2),
- * and cos and sin of the step (corners and facet normals are stepped through by rotation). */
+ * and cos and sin of the step (facet normals are stepped through by rotation), and of 0 .. turns - 1 steps
+ * (as far as the call's arcs have needed them). */
 typedef struct poly_cylinder_polygon {
   int facets;
   double step, h, corner_radius, cos_step, sin_step;
   int memo_index[POLY_CYLINDER_MEMO];
   double memo_cos[POLY_CYLINDER_MEMO], memo_sin[POLY_CYLINDER_MEMO];
+  int turns;
+  double turn_cos[POLY_CYLINDER_TURNS + 1], turn_sin[POLY_CYLINDER_TURNS + 1];
 } poly_cylinder_polygon;
 
 POLY_INLINE poly_cylinder_polygon poly_cylinder_polygon_of(double radius, int facets)
@@ -366,7 +374,23 @@ POLY_INLINE poly_cylinder_polygon poly_cylinder_polygon_of(double radius, int fa
   g.cos_step = cos(g.step);
   g.sin_step = sin(g.step);
   for (int i = 0; i < POLY_CYLINDER_MEMO; i++) g.memo_index[i] = INT_MIN;
+  g.turns = 1;
+  g.turn_cos[0] = 1.0, g.turn_sin[0] = 0.0;
   return g;
+}
+
+/* Makes g's turns reach `count` steps (at most POLY_CYLINDER_TURNS + 1 of them), each the one before turned by a
+ * step and renormalised, as the arcs' corners used to be stepped. */
+POLY_INLINE void poly_cylinder_turns(poly_cylinder_polygon *g, int count)
+{
+  count = count > POLY_CYLINDER_TURNS + 1 ? POLY_CYLINDER_TURNS + 1 : count;
+  for (int q = g->turns; q < count; q++) {
+    double c = g->turn_cos[q - 1] * g->cos_step - g->turn_sin[q - 1] * g->sin_step;
+    double s = g->turn_sin[q - 1] * g->cos_step + g->turn_cos[q - 1] * g->sin_step;
+    double renorm = 1.5 - 0.5 * (c * c + s * s);
+    g->turn_cos[q] = c * renorm, g->turn_sin[q] = s * renorm;
+  }
+  if (count > g->turns) g->turns = count;
 }
 
 /* cos and sin of `angle`, the direction of half-step index `index` (see poly_cylinder_polygon), as computed for
@@ -386,8 +410,10 @@ POLY_INLINE void poly_cylinder_direction(poly_cylinder_polygon *g, int index, do
 /* The facet (0..N-1) whose sector holds the point (x, y) (relative to the axis). */
 POLY_INLINE int poly_cylinder_sector_of(const poly_cylinder_polygon *g, double x, double y)
 {
-  int facet = (int)floor(atan2(y, x) / g->step) % g->facets;
-  return facet < 0 ? facet + g->facets : facet;
+  /* atan2 is within [-pi, pi]: one facet count added or taken back is the remainder's. */
+  int facet = (int)floor(atan2(y, x) / g->step);
+  facet += facet < 0 ? g->facets : 0;
+  return facet >= g->facets ? facet - g->facets : facet;
 }
 
 /* Whether the point (x, y) is inside the polygon (its facets' side towards the axis, boundary included). */
@@ -486,6 +512,17 @@ typedef struct poly_cylinder_crossing {
   int edge, facet, enter;
 } poly_cylinder_crossing;
 
+/* The crossings of a call's edges of the shape, in a few slots by their vertices: a crossing edge is met by
+ * both its triangles, the second takes the first's crossings (found along the edge from its lower-numbered
+ * vertex to the other), so the two pieces meet at the same points and each edge's crossings are found once. */
+#define POLY_CYLINDER_EDGE_MEMO 64
+typedef struct poly_cylinder_edge_memo {
+  int low[POLY_CYLINDER_EDGE_MEMO], high[POLY_CYLINDER_EDGE_MEMO]; /* the edge's vertices; low -1: empty */
+  int count[POLY_CYLINDER_EDGE_MEMO];
+  double x[POLY_CYLINDER_EDGE_MEMO][2][3];
+  int facet[POLY_CYLINDER_EDGE_MEMO][2], enter[POLY_CYLINDER_EDGE_MEMO][2];
+} poly_cylinder_edge_memo;
+
 /* Triangles nearer vertical than this (|n_z| of the unit normal below it) have their pieces integrated in 3D
  * (poly_cylinder_fast_piece): in projection the integrals divide by n_z, which magnifies the rounding by up
  * to 1 / POLY_CYLINDER_MIN_TILT. */
@@ -535,8 +572,8 @@ POLY_INLINE void poly_cylinder_lift(const double (*p)[3], const double dir[2], d
  * triangle, the integrals over the triangles (crossing point, segment) on the triangle's plane, the polygon's
  * corners lifted onto it (poly_cylinder_lift). A vertical triangle's arcs are the vertical segments where it
  * meets the facets' planes. Each corner of the polygon inside the triangle costs one term, with no clipping. */
-POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], poly_cylinder_polygon *g, int drum,
-                                          poly_cylinder_sums *sums)
+POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const int *corners_of, poly_cylinder_edge_memo *memo,
+                                          poly_cylinder_polygon *g, int drum, poly_cylinder_sums *sums)
 {
   double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
   double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
@@ -551,6 +588,32 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], poly_cylinder_po
   int count = 0;
   for (int i = 0; i < 3; i++) {
     int next = (i + 1) % 3;
+    if (memo) { /* along the edge from its lower-numbered vertex, or as its other triangle found it */
+      const int reversed = corners_of[next] < corners_of[i], from = reversed ? next : i, to = reversed ? i : next;
+      const int low = corners_of[from], high = corners_of[to];
+      const int slot = (int)(((unsigned)low * 40503u + (unsigned)high) & (POLY_CYLINDER_EDGE_MEMO - 1));
+      if (memo->low[slot] != low || memo->high[slot] != high) {
+        const double a[2] = {p[from][0], p[from][1]}, d[2] = {p[to][0] - p[from][0], p[to][1] - p[from][1]};
+        double t[2];
+        int *facet = memo->facet[slot], *enter = memo->enter[slot];
+        int n = poly_cylinder_edge_crossings(g, a, d, inside[from], inside[to], t, facet, enter);
+        for (int k = 0; k < n; k++) {
+          memo->x[slot][k][0] = a[0] + t[k] * d[0];
+          memo->x[slot][k][1] = a[1] + t[k] * d[1];
+          memo->x[slot][k][2] = p[from][2] + t[k] * (p[to][2] - p[from][2]);
+        }
+        memo->low[slot] = low, memo->high[slot] = high, memo->count[slot] = n;
+      }
+      const int n = memo->count[slot];
+      for (int k = 0; k < n; k++, count++) {
+        const int j = reversed ? n - 1 - k : k;
+        for (int c = 0; c < 3; c++) crossing[count].x[c] = memo->x[slot][j][c];
+        crossing[count].edge = i;
+        crossing[count].facet = memo->facet[slot][j];
+        crossing[count].enter = reversed ? !memo->enter[slot][j] : memo->enter[slot][j];
+      }
+      continue;
+    }
     const double a[2] = {p[i][0], p[i][1]}, d[2] = {p[next][0] - p[i][0], p[next][1] - p[i][1]};
     double t[2];
     int facet[2], enter[2], n = poly_cylinder_edge_crossings(g, a, d, inside[i], inside[next], t, facet, enter);
@@ -595,11 +658,24 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], poly_cylinder_po
     /* An arc within a projection clear of the axis spans less than half a turn, at most facets / 2 + 1
      * corners; a count near `facets` is both ends at one corner, each rounded to another side of it. */
     if (corners > facets / 2 + 1) corners = 0;
-    double turn = forward ? g->sin_step : -g->sin_step, u[3] = {out->x[0], out->x[1], out->x[2]};
+    const double way = forward ? 1.0 : -1.0;
+    double u[3] = {out->x[0], out->x[1], out->x[2]};
     const int corner = forward ? out->facet + 1 : out->facet;
-    double dir[2];
-    poly_cylinder_direction(g, 2 * corner, corner * g->step, &dir[0], &dir[1]);
-    for (int q = 0; q < corners; q++) {
+    double base[2];
+    poly_cylinder_direction(g, 2 * corner, corner * g->step, &base[0], &base[1]);
+    poly_cylinder_turns(g, corners + 1);
+    for (int q = 0, j = 0; q < corners; q++, j++) {
+      if (j == POLY_CYLINDER_TURNS) { /* the next block's first corner */
+        double c = g->turn_cos[j], s = way * g->turn_sin[j];
+        double rotated = base[0] * c - base[1] * s;
+        base[1] = base[1] * c + base[0] * s;
+        base[0] = rotated;
+        double renorm = 1.5 - 0.5 * (base[0] * base[0] + base[1] * base[1]);
+        base[0] *= renorm, base[1] *= renorm;
+        j = 0;
+      }
+      const double c = g->turn_cos[j], s = way * g->turn_sin[j];
+      const double dir[2] = {base[0] * c - base[1] * s, base[1] * c + base[0] * s};
       if (steep) {
         double w[3];
         poly_cylinder_lift(p, dir, g->corner_radius, w);
@@ -610,11 +686,6 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], poly_cylinder_po
         poly_cylinder_moments_add(&arcs, u[0] - o[0], u[1] - o[1], wx - o[0], wy - o[1]);
         u[0] = wx, u[1] = wy;
       }
-      double rotated = dir[0] * g->cos_step - dir[1] * turn;
-      dir[1] = dir[1] * g->cos_step + dir[0] * turn;
-      dir[0] = rotated;
-      double renorm = 1.5 - 0.5 * (dir[0] * dir[0] + dir[1] * dir[1]);
-      dir[0] *= renorm, dir[1] *= renorm;
     }
     if (steep) poly_cylinder_add_triangle(o, u, in->x, &piece_arcs);
     else poly_cylinder_moments_add(&arcs, u[0] - o[0], u[1] - o[1], in->x[0] - o[0], in->x[1] - o[1]);
@@ -656,8 +727,8 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], poly_cylinder_po
  * sector where its projection reaches the axis, the fast path (fast = 1) or the sector-by-sector clipping.
  * Returns the squared distance of its projection from the axis (the pillar's depth), or INFINITY for a drum
  * triangle within the inscribed circle. */
-POLY_INLINE double poly_cylinder_triangle(const double (*p)[3], poly_cylinder_polygon *g, int drum, int fast,
-                                          poly_cylinder_sums *sums)
+POLY_INLINE double poly_cylinder_triangle(const double (*p)[3], const int *corners_of, poly_cylinder_edge_memo *memo,
+                                          poly_cylinder_polygon *g, int drum, int fast, poly_cylinder_sums *sums)
 {
   const double h2 = g->h * g->h, corner2 = g->corner_radius * g->corner_radius;
   int within = 1; /* the inscribed circle */
@@ -667,7 +738,7 @@ POLY_INLINE double poly_cylinder_triangle(const double (*p)[3], poly_cylinder_po
   if (!drum && distance2 >= corner2) return distance2;
   if (drum ? distance2 >= corner2 : within) poly_cylinder_add_polygon(p, 3, sums);
   else if (!(distance2 > 0.0)) poly_cylinder_sector_pieces(p, 0, g->facets - 1, g->facets, g->h, drum ? 1.0 : -1.0, sums);
-  else if (fast) poly_cylinder_fast_piece(p, g, drum, sums);
+  else if (fast) poly_cylinder_fast_piece(p, corners_of, memo, g, drum, sums);
   else poly_cylinder_crossing_pieces(p, g->facets, g->h, drum, sums);
   return distance2;
 }
@@ -732,6 +803,8 @@ POLY_INLINE void poly_cylinder_overlap_with(const poly_shape_view_d *shape, cons
     for (int i = 0; i < shape->num_vertices; i++)
       near[i] = poly_cylinder_may_reach(toward, shape->vertices + 3 * i, above, below);
 
+  poly_cylinder_edge_memo memo;
+  for (int i = 0; i < POLY_CYLINDER_EDGE_MEMO; i++) memo.low[i] = -1;
   poly_cylinder_sums sums = {0.0, {0.0, 0.0, 0.0}, 0.0, {0.0, 0.0, 0.0}};
   double nearest2 = INFINITY;
   for (int t = 0; t < shape->num_triangles; t++) {
@@ -747,7 +820,7 @@ POLY_INLINE void poly_cylinder_overlap_with(const poly_shape_view_d *shape, cons
       poly_matrix_apply(rotation, shape->vertices + 3 * tri[c], world);
       for (int k = 0; k < 3; k++) p[c][k] = world[k] + offset[k];
     }
-    double distance2 = poly_cylinder_triangle((const double (*)[3])p, &g, drum, fast, &sums);
+    double distance2 = poly_cylinder_triangle((const double (*)[3])p, tri, &memo, &g, drum, fast, &sums);
     nearest2 = distance2 < nearest2 ? distance2 : nearest2;
   }
   if (!(sums.volume > 0.0)) return;

@@ -64,7 +64,7 @@ void shim_cylinder_triangle(const double *p, double radius, int facets, int drum
 {
   poly_cylinder_polygon g = poly_cylinder_polygon_of(radius, facets);
   poly_cylinder_sums sums = {0.0, {0.0, 0.0, 0.0}, 0.0, {0.0, 0.0, 0.0}};
-  poly_cylinder_triangle((const double (*)[3])p, &g, drum, fast, &sums);
+  poly_cylinder_triangle((const double (*)[3])p, NULL, NULL, &g, drum, fast, &sums);
   out[0] = sums.volume, out[4] = sums.area;
   for (int k = 0; k < 3; k++) out[1 + k] = sums.moment[k], out[5 + k] = sums.area_vector[k];
 }
@@ -415,7 +415,7 @@ def tilted_quaternion(rng):
 @pytest.mark.parametrize("name,file", [("cube", "cube.stl"), ("schoenhardt", "schoenhardt.stl"),
                                        ("tetrahedron", "tetrahedron.obj"), ("box", "box_1x2x3.off"),
                                        ("rock_10", "rock_10.obj"), ("rock_70", "rock_70.obj"),
-                                       ("icosphere_80", "icosphere_80.off")])
+                                       ("icosphere_80", "icosphere_80.off"), ("rock_1000", "rock_1000.obj")])
 def test_fast_path_matches_the_reference(cylinder_lib, name, file):
     """poly_cylinder_overlap (the corners of the polygon walked along each crossing triangle's piece, its moments
     from its boundary) against poly_cylinder_overlap_reference (each crossing triangle clipped sector by sector,
