@@ -86,3 +86,31 @@ def read_all_dump_snapshots(path):
         else:
             i += 1
     return snapshots
+
+
+def settled_bed_energies(run_deck, workdir, pair, precision, steps=300, every=30, count=0):
+    """examples/gravity_packing/in.packing on tests/data/settled_bed_N2000.data (2000 Schoenhardt polyhedra of
+    20 mm settled on its plane wall in double: examples/gravity_packing/gpus.sh's first stage with CELL=2000
+    SETTLE=0.01 on the CPU, its final dump tiled once by tile_bed.py), from rest, for `steps` steps in
+    `precision`: the thermo rows {"Step", "KinEng", "erot"} every `every` steps. count=1 also counts contacts."""
+    import pathlib
+    root = pathlib.Path(__file__).resolve().parent.parent
+    deck = (root / "examples" / "gravity_packing" / "in.packing").read_text()
+    result = run_deck(deck, workdir=workdir, variables={
+        "N": 2000, "wall": 1, "steps": steps, "M": every, "pair": pair, "precision": precision, "final": 0,
+        "count": count, "data": root / "tests" / "data" / "settled_bed_N2000.data"})
+    assert result.returncode == 0, result.output[-3000:]
+    return result.thermo("Step", "KinEng", "c_erot")
+
+
+def mixed_against_double_on_settled_bed(run_deck, tmp_path, pair):
+    """settled_bed_energies in double and in mixed with `pair`: the largest relative difference of KinEng and erot
+    between them over the thermo rows (rows at rest in both skipped), printed with the end's kinetic energies."""
+    double = settled_bed_energies(run_deck, tmp_path / "double", pair, "double")
+    mixed = settled_bed_energies(run_deck, tmp_path / "mixed", pair, "mixed")
+    assert double["Step"] == mixed["Step"] and max(double["KinEng"]) > 0.0
+    apart = max(abs(b - a) / abs(a) for column in ("KinEng", "c_erot")
+                for a, b in zip(double[column], mixed[column]) if a != 0.0 or b != 0.0)
+    print(f"\nsettled bed, {pair}: mixed against double, energies at most {apart:.2e} apart; kinetic energy at the "
+          f"end {double['KinEng'][-1]:.3e} / {mixed['KinEng'][-1]:.3e} J")
+    return apart

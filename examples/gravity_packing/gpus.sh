@@ -8,7 +8,9 @@
 #            particles), T = TW (default the integer nearest 10 sqrt(G): about G times as many) and T = 3 (91,035)
 #   agree    per precision: the 91,035 bed, STEPS_AGREE (100, a multiple of 10) steps with G R ranks on one GPU
 #            and on G GPUs; the final positions compared; the G-GPU run writes a restart which a one-GPU run
-#            reads back and runs 10 steps on, compared with the G GPUs running those 10 steps unbroken
+#            reads back and runs 10 steps on, compared with the G GPUs running those 10 steps unbroken (not 0:
+#            each `run` sets up with full-step velocities, the damping's forces among them; a restart is the same
+#            run split there to the bit, tests/test_parallel_restart.py)
 #   scale    per precision: 10^6 on one GPU (R ranks), about G x 10^6 on G GPUs (G R ranks), 10^6 on G GPUs (G R
 #            ranks), STEPS (500) steps each: ms per step; weak scaling t(1 GPU, 10^6) / t(G GPUs, G x 10^6)
 #            (per particle), strong scaling t(1 GPU) / (G t(G GPUs)) at 10^6
