@@ -543,8 +543,8 @@ bool narrow_phase(const poly_gpu_settings &settings, bool want_results, char *me
     device_results = state.results.data;
   }
   if (Precision != POLY_PRECISION_SINGLE && state.any_clip && num_touching > 0 && !state.options.pair_kernel) {
-    // Pairs of shapes with clip faces take the clipping path (in double; in mixed precision the warp kernel clips
-    // the faces in single, the one-thread kernel in double as the host); the rest, and what it hands back,
+    // Pairs of shapes with clip faces take the clipping path (in double, in mixed precision too as on the host;
+    // POLY_GPU_MIXED_CLIP=single: the warp kernel's faces in single); the rest, and what it hands back,
     // thread_per_pair.
     if (!ensure(state.handed_back, num_touching, message, size)) return false;
     // Pairs of convex shapes run faster one per thread (their few faces leave most of a warp idle); shapes of

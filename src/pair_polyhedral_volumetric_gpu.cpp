@@ -84,8 +84,9 @@ void PairPolyhedralVolumetricGPU::init_style()
   min_pairs = options.min_pairs;
   min_pieces = options.min_pieces;
   if (options.mixed_clip == 1 && precision == POLY_PRECISION_MIXED && comm->me == 0)
-    error->warning(FLERR, "Pair polyhedral/volumetric/gpu: POLY_GPU_MIXED_CLIP=single clips faces in single "
-                          "precision, which injects energy into resting packings (doc/gpu.md); for benchmarks only");
+    error->warning(FLERR, "Pair polyhedral/volumetric/gpu: POLY_GPU_MIXED_CLIP=single: the warp clipping kernel clips "
+                          "faces in single precision, which injects energy into resting packings (doc/gpu.md); for "
+                          "benchmarks only");
   if (poly_gpu_device_count() == 0)
     error->all(FLERR, "Pair polyhedral/volumetric/gpu: no usable CUDA GPU (use pair_style polyhedral/volumetric)");
   // The device keeps history only within one run; a new run starts from LIGGGHTS' lists.

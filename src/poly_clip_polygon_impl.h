@@ -1,7 +1,7 @@
 /* One Sutherland-Hodgman step and a face's clipping by several planes, written once for a scalar type: included
- * by poly_clip_polygon.h with POLY_CLIP_REAL double (names as they are) and float (names with _f: the GPU's warp
- * clipping kernel in mixed precision clips its faces in single and sums them in double, as the general path's
- * mixed precision does; doc/gpu.md). */
+ * by poly_clip_polygon.h with POLY_CLIP_REAL double (names as they are) and float (names with _f: with
+ * POLY_GPU_MIXED_CLIP=single the GPU's warp clipping kernel clips its faces in single in mixed precision and sums
+ * them in double, a benchmark's opt-in; doc/gpu.md). */
 #if !defined(POLY_CLIP_REAL) || !defined(POLY_CLIP_FN)
 #error "define POLY_CLIP_REAL and POLY_CLIP_FN before including poly_clip_polygon_impl.h"
 #endif

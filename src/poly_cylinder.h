@@ -43,7 +43,7 @@
  * ranges from several atan2 per triangle. At the default sagitta (1e-6 of the particle's bounding radius) in
  * a drum of 10 particle diameters, N is 6000 to 8000 and a contact of 0.1-3 % of the particle's volume
  * spans 100 to 250 sector pieces: 8 to 69 us per contact on one core (tools/bench_cylinder.sh,
- * doc/benchmarks.md); now 1.0 to 11 us (an AMD EPYC core), with the same approximant and the same results to
+ * doc/benchmarks.md); now 1.0 to 10 us (an AMD EPYC core), with the same approximant and the same results to
  * rounding. That
  * computation is kept as poly_cylinder_overlap_reference, which tests/test_wall_cylinder.py compares with
  * poly_cylinder_overlap on random poses; it still does the triangles whose projection reaches the axis
@@ -357,7 +357,7 @@ POLY_INLINE void poly_cylinder_crossing_pieces(const double (*p)[3], int facets,
  * (as far as the call's arcs have needed them). */
 typedef struct poly_cylinder_polygon {
   int facets;
-  double step, h, corner_radius, cos_step, sin_step;
+  double step, h, corner_radius, cos_step, sin_step, cos_half_step, sin_half_step;
   int memo_index[POLY_CYLINDER_MEMO];
   double memo_cos[POLY_CYLINDER_MEMO], memo_sin[POLY_CYLINDER_MEMO];
   int turns;
@@ -373,6 +373,8 @@ POLY_INLINE poly_cylinder_polygon poly_cylinder_polygon_of(double radius, int fa
   g.corner_radius = g.h / cos(0.5 * g.step);
   g.cos_step = cos(g.step);
   g.sin_step = sin(g.step);
+  g.cos_half_step = cos(0.5 * g.step);
+  g.sin_half_step = sin(0.5 * g.step);
   for (int i = 0; i < POLY_CYLINDER_MEMO; i++) g.memo_index[i] = INT_MIN;
   g.turns = 1;
   g.turn_cos[0] = 1.0, g.turn_sin[0] = 0.0;
@@ -428,32 +430,48 @@ POLY_INLINE int poly_cylinder_in_polygon(poly_cylinder_polygon *g, double x, dou
   return nx * x + ny * y <= g->h;
 }
 
+/* Turns below this (radians) take cos and sin from their series (to the 7th power: below 1e-21 there). */
+#define POLY_CYLINDER_SERIES_TURN 1e-2
+
 /* Where the line a + t d (relative to the axis) crosses the polygon's boundary inwards (enter = 1: the
  * largest entry parameter over the facets) or outwards (the smallest exit parameter), t0 being where it
  * crosses the corner circle on that side. Between the two crossings the line runs outside the polygon and
  * inside the corner circle, an annulus in which a segment spans at most one step of angle, so the facet
- * sought is within one of t0's sector; the five about it are tried (one more each side for rounding).
- * Returns the parameter; *facet gets its facet (0..N-1). */
+ * sought is within one of t0's sector; the five about it are tried (one more each side for rounding). The
+ * first one's normal is the direction of the point at t0 turned by the small angle between them (series),
+ * rather than the cosine and sine of the facet's angle (libm, for polygons of few facets). Returns the
+ * parameter; *facet gets its facet (0..N-1) and, unless NULL, normal its unit normal. */
 POLY_INLINE double poly_cylinder_line_crossing(poly_cylinder_polygon *g, const double a[2], const double d[2],
-                                               double t0, int enter, int *facet)
+                                               double t0, int enter, int *facet, double *normal)
 {
-  int first = poly_cylinder_sector_of(g, a[0] + t0 * d[0], a[1] + t0 * d[1]) - 2;
+  const double x = a[0] + t0 * d[0], y = a[1] + t0 * d[1], angle = atan2(y, x);
+  const int first = (int)floor(angle / g->step) - 2; /* unwrapped: the facet numbers are taken modulo N below */
+  const double turn = (first + 0.5) * g->step - angle;
   double nx, ny;
-  poly_cylinder_direction(g, 2 * first + 1, (first + 0.5) * g->step, &nx, &ny);
-  double best = t0;
+  if (fabs(turn) < POLY_CYLINDER_SERIES_TURN) {
+    const double r = sqrt(x * x + y * y), ux = x / r, uy = y / r, t2 = turn * turn;
+    const double c = 1.0 - 0.5 * t2 * (1.0 - t2 / 12.0 * (1.0 - t2 / 30.0));
+    const double s = turn * (1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0)));
+    nx = ux * c - uy * s, ny = uy * c + ux * s;
+  } else {
+    poly_cylinder_direction(g, 2 * first + 1, (first + 0.5) * g->step, &nx, &ny);
+  }
+  double best = t0, best_nx = 0.0, best_ny = 0.0;
   int best_facet = first + 2, found = 0;
   for (int m = 0; m < 5; m++) {
     double along = nx * d[0] + ny * d[1];
     if (enter ? along < 0.0 : along > 0.0) {
       double t = (g->h - nx * a[0] - ny * a[1]) / along;
-      if (!found || (enter ? t > best : t < best)) best = t, best_facet = first + m, found = 1;
+      if (!found || (enter ? t > best : t < best)) best = t, best_facet = first + m, found = 1, best_nx = nx, best_ny = ny;
     }
+    if (!found && m == 2) best_nx = nx, best_ny = ny;
     double rotated = nx * g->cos_step - ny * g->sin_step;
     ny = ny * g->cos_step + nx * g->sin_step;
     nx = rotated;
   }
   best_facet %= g->facets;
   *facet = best_facet < 0 ? best_facet + g->facets : best_facet;
+  if (normal) normal[0] = best_nx, normal[1] = best_ny;
   return best;
 }
 
@@ -464,7 +482,8 @@ POLY_INLINE double poly_cylinder_line_crossing(poly_cylinder_polygon *g, const d
  * outside do the parameters decide whether it enters. Returns the count (0..2); t (in [0, 1]), facet and
  * enter (1: into the polygon) of each, in order along the segment. */
 POLY_INLINE int poly_cylinder_edge_crossings(poly_cylinder_polygon *g, const double a[2], const double d[2],
-                                             int inside_a, int inside_b, double t[2], int facet[2], int enter[2])
+                                             int inside_a, int inside_b, double t[2], int facet[2], int enter[2],
+                                             double (*normal)[2])
 {
   if (inside_a && inside_b) return 0;
   double qa = d[0] * d[0] + d[1] * d[1], qb = a[0] * d[0] + a[1] * d[1];
@@ -478,11 +497,17 @@ POLY_INLINE int poly_cylinder_edge_crossings(poly_cylinder_polygon *g, const dou
   if (!inside_a && !inside_b && (t2 <= 0.0 || t1 >= 1.0)) return 0;
   double t_in = 0.0, t_out = 1.0;
   int facet_in = 0, facet_out = 0, count = 0;
-  if (!inside_a) t_in = poly_cylinder_line_crossing(g, a, d, t1, 1, &facet_in);
-  if (!inside_b) t_out = poly_cylinder_line_crossing(g, a, d, t2, 0, &facet_out);
+  double normal_in[2] = {0.0, 0.0}, normal_out[2] = {0.0, 0.0};
+  if (!inside_a) t_in = poly_cylinder_line_crossing(g, a, d, t1, 1, &facet_in, normal_in);
+  if (!inside_b) t_out = poly_cylinder_line_crossing(g, a, d, t2, 0, &facet_out, normal_out);
   t_in = t_in < 0.0 ? 0.0 : t_in > 1.0 ? 1.0 : t_in;
   t_out = t_out < 0.0 ? 0.0 : t_out > 1.0 ? 1.0 : t_out;
   if (!inside_a && !inside_b && !(t_in < t_out)) return 0; /* through the annulus only */
+  if (normal) { /* in the crossings' order */
+    const double *first_normal = !inside_a ? normal_in : normal_out;
+    normal[0][0] = first_normal[0], normal[0][1] = first_normal[1];
+    normal[1][0] = normal_out[0], normal[1][1] = normal_out[1];
+  }
   if (!inside_a) t[count] = t_in, facet[count] = facet_in, enter[count++] = 1;
   if (!inside_b) t[count] = t_out, facet[count] = facet_out, enter[count++] = 0;
   return count;
@@ -508,7 +533,8 @@ POLY_INLINE void poly_cylinder_moments_add(poly_cylinder_moments *m, double ux, 
 
 /* Where a triangle's boundary crosses the polygon's (its projection's). */
 typedef struct poly_cylinder_crossing {
-  double x[3]; /* relative to the axis (z: to the particle's centre) */
+  double x[3];      /* relative to the axis (z: to the particle's centre) */
+  double normal[2]; /* the facet's unit normal */
   int edge, facet, enter;
 } poly_cylinder_crossing;
 
@@ -519,7 +545,7 @@ typedef struct poly_cylinder_crossing {
 typedef struct poly_cylinder_edge_memo {
   int low[POLY_CYLINDER_EDGE_MEMO], high[POLY_CYLINDER_EDGE_MEMO]; /* the edge's vertices; low -1: empty */
   int count[POLY_CYLINDER_EDGE_MEMO];
-  double x[POLY_CYLINDER_EDGE_MEMO][2][3];
+  double x[POLY_CYLINDER_EDGE_MEMO][2][3], normal[POLY_CYLINDER_EDGE_MEMO][2][2];
   int facet[POLY_CYLINDER_EDGE_MEMO][2], enter[POLY_CYLINDER_EDGE_MEMO][2];
 } poly_cylinder_edge_memo;
 
@@ -596,7 +622,7 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const int *corne
         const double a[2] = {p[from][0], p[from][1]}, d[2] = {p[to][0] - p[from][0], p[to][1] - p[from][1]};
         double t[2];
         int *facet = memo->facet[slot], *enter = memo->enter[slot];
-        int n = poly_cylinder_edge_crossings(g, a, d, inside[from], inside[to], t, facet, enter);
+        int n = poly_cylinder_edge_crossings(g, a, d, inside[from], inside[to], t, facet, enter, memo->normal[slot]);
         for (int k = 0; k < n; k++) {
           memo->x[slot][k][0] = a[0] + t[k] * d[0];
           memo->x[slot][k][1] = a[1] + t[k] * d[1];
@@ -607,7 +633,8 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const int *corne
       const int n = memo->count[slot];
       for (int k = 0; k < n; k++, count++) {
         const int j = reversed ? n - 1 - k : k;
-        for (int c = 0; c < 3; c++) crossing[count].x[c] = memo->x[slot][j][c];
+        for (int axis = 0; axis < 3; axis++) crossing[count].x[axis] = memo->x[slot][j][axis];
+        crossing[count].normal[0] = memo->normal[slot][j][0], crossing[count].normal[1] = memo->normal[slot][j][1];
         crossing[count].edge = i;
         crossing[count].facet = memo->facet[slot][j];
         crossing[count].enter = reversed ? !memo->enter[slot][j] : memo->enter[slot][j];
@@ -616,8 +643,10 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const int *corne
     }
     const double a[2] = {p[i][0], p[i][1]}, d[2] = {p[next][0] - p[i][0], p[next][1] - p[i][1]};
     double t[2];
-    int facet[2], enter[2], n = poly_cylinder_edge_crossings(g, a, d, inside[i], inside[next], t, facet, enter);
+    double normal[2][2];
+    int facet[2], enter[2], n = poly_cylinder_edge_crossings(g, a, d, inside[i], inside[next], t, facet, enter, normal);
     for (int k = 0; k < n; k++, count++) {
+      crossing[count].normal[0] = normal[k][0], crossing[count].normal[1] = normal[k][1];
       crossing[count].x[0] = a[0] + t[k] * d[0];
       crossing[count].x[1] = a[1] + t[k] * d[1];
       crossing[count].x[2] = p[i][2] + t[k] * (p[next][2] - p[i][2]);
@@ -660,22 +689,23 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const int *corne
     if (corners > facets / 2 + 1) corners = 0;
     const double way = forward ? 1.0 : -1.0;
     double u[3] = {out->x[0], out->x[1], out->x[2]};
-    const int corner = forward ? out->facet + 1 : out->facet;
-    double base[2];
-    poly_cylinder_direction(g, 2 * corner, corner * g->step, &base[0], &base[1]);
+    /* The first corner: the exit's facet normal turned by half a step, forward or back. */
+    const double half_sin = way * g->sin_half_step;
+    double base[2] = {out->normal[0] * g->cos_half_step - out->normal[1] * half_sin,
+                      out->normal[1] * g->cos_half_step + out->normal[0] * half_sin};
     poly_cylinder_turns(g, corners + 1);
     for (int q = 0, j = 0; q < corners; q++, j++) {
       if (j == POLY_CYLINDER_TURNS) { /* the next block's first corner */
-        double c = g->turn_cos[j], s = way * g->turn_sin[j];
-        double rotated = base[0] * c - base[1] * s;
-        base[1] = base[1] * c + base[0] * s;
+        double turn_c = g->turn_cos[j], turn_s = way * g->turn_sin[j];
+        double rotated = base[0] * turn_c - base[1] * turn_s;
+        base[1] = base[1] * turn_c + base[0] * turn_s;
         base[0] = rotated;
         double renorm = 1.5 - 0.5 * (base[0] * base[0] + base[1] * base[1]);
         base[0] *= renorm, base[1] *= renorm;
         j = 0;
       }
-      const double c = g->turn_cos[j], s = way * g->turn_sin[j];
-      const double dir[2] = {base[0] * c - base[1] * s, base[1] * c + base[0] * s};
+      const double turn_c = g->turn_cos[j], turn_s = way * g->turn_sin[j];
+      const double dir[2] = {base[0] * turn_c - base[1] * turn_s, base[1] * turn_c + base[0] * turn_s};
       if (steep) {
         double w[3];
         poly_cylinder_lift(p, dir, g->corner_radius, w);

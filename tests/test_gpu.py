@@ -183,8 +183,7 @@ def test_gpu_and_cpu_agree_on_shallow_contacts(launcher, precision):
     """2000 pairs of every shape in contact by 1e-6 to 1e-4 of the particle volume, where rounding weighs most
     (float corners are about 6e-8 of the size off, against an overlap a thousandth of it deep): V from the GPU
     against the host's, each against its own V, at most 1e-10 in double, and in single and mixed a median of 1e-4
-    and a worst of 9e-2 and 3e-2 (the accuracy the pair style's page states for such contacts; in mixed
-    the GPU clips in single where the host clips in double, so this bounds the faces' single clipping too), with
+    and a worst of 9e-2 and 3e-2 (the accuracy the pair style's page states for such contacts), with
     the driver's usual checks."""
     stdout = run_agreement("gpu_agreement", "2000", precision, "shallow")
     assert stdout.count("shallow contacts") == 10, stdout
@@ -193,8 +192,9 @@ def test_gpu_and_cpu_agree_on_shallow_contacts(launcher, precision):
 @needs_gpu
 @pytest.mark.parametrize("clip", ["single", "double"])
 def test_mixed_precision_clipping_in_single_and_in_double_agree_with_cpu(launcher, clip):
-    """In mixed precision the warp clipping kernel clips the faces in single and sums them in double (doc/gpu.md,
-    "Clipping"); POLY_GPU_MIXED_CLIP=double clips them in double, as the host's mixed precision does. Both within
+    """In mixed precision the warp clipping kernel clips the faces in double, as the host's mixed precision does;
+    POLY_GPU_MIXED_CLIP=single clips them in single and sums them in double (doc/gpu.md, "Clipping": a benchmark's
+    opt-in, test_gpu_mixed_precision_keeps_a_settled_bed_as_double_does says why). Both within
     the mixed tolerance (1e-4) of the host for 2000 pairs of every shape; Schoenhardt polyhedra (the warp kernel's
     shape) differ from the host by float's rounding with single (more than 1e-9) and by double's without (less than
     1e-10): the choice takes effect."""
@@ -313,11 +313,12 @@ def test_gpu_history_survives_restart(run_deck, tmp_path, records):
 
 
 @needs_gpu
-def test_gpu_mixed_precision_keeps_a_settled_bed_as_double_does(run_deck, tmp_path):
+def test_gpu_mixed_precision_keeps_a_settled_bed_as_double_does(run_deck, tmp_path, monkeypatch):
     """test_single_precision's settled bed on the GPU style (forces summed on the device): 300 steps from rest in
     double and in mixed precision, the kinetic and rotational energies within 10 % of double's at every thermo
     step. With the clipping kernel's faces clipped in single (POLY_GPU_MIXED_CLIP=single, the default for a stop)
     a bed of 91,035 such particles went from 0.02 J to 0.77 J in 300 steps where double stayed at 0.02 J."""
+    monkeypatch.delenv("POLY_GPU_MIXED_CLIP", raising=False)
     apart = decks.mixed_against_double_on_settled_bed(run_deck, tmp_path, "polyhedral/volumetric/gpu")
     assert apart <= 0.1, apart
 

@@ -2,7 +2,9 @@
 
 Without contacts the particles fly freely, so any difference between 1 and 2
 ranks, or between a restarted and an unbroken run, is a bug in how the
-polyhedral per-particle fields travel (migration, ghosts, restart, data)."""
+polyhedral per-particle fields travel (migration, ghosts, restart, data); the
+settled bed's test has contacts, and compares a restart with the same run
+split at its step."""
 import pathlib
 import random
 

@@ -289,8 +289,9 @@ def test_pair_style_precisions_agree_on_bed_like_contacts(lib, schoenhardt, run_
 def test_mixed_precision_keeps_a_settled_bed_as_double_does(run_deck, tmp_path):
     """A bed of 2000 Schoenhardt polyhedra settled in double (decks.settled_bed_energies), 300 steps from rest in
     double and in mixed precision: the kinetic and rotational energies within 10 % of double's at every thermo
-    step. Energy injected by the geometry's rounding shows here first: the GPU's mixed precision with its faces
-    clipped in single (POLY_GPU_MIXED_CLIP=single) took a bed of 91,035 such particles from 0.02 J to 0.77 J in
-    300 steps where double stayed at 0.02 J (doc/benchmarks.md). Measured on the host: 1.5 % at most."""
+    step. The host clips these pairs in double in mixed precision too, so this guards the host's mixed path
+    (its contact law, sums and general path) against what the GPU's faces clipped in single did
+    (POLY_GPU_MIXED_CLIP=single: a bed of 91,035 such particles from 0.02 J to 0.77 J in 300 steps where double
+    stayed at 0.02 J; tests/test_gpu.py's twin of this test catches that). Measured on the host: 1.5 % at most."""
     apart = decks.mixed_against_double_on_settled_bed(run_deck, tmp_path, "polyhedral/volumetric")
     assert apart <= 0.1, apart

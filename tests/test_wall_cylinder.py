@@ -53,7 +53,7 @@ void shim_cylinder_crossings(double radius, int facets, const double *a, const d
   poly_cylinder_polygon g = poly_cylinder_polygon_of(radius, facets);
   int inside_a = poly_cylinder_in_polygon(&g, a[0], a[1]), inside_b = poly_cylinder_in_polygon(&g, a[0] + d[0], a[1] + d[1]);
   double t[2];
-  int facet[2], enter[2], count = poly_cylinder_edge_crossings(&g, a, d, inside_a, inside_b, t, facet, enter);
+  int facet[2], enter[2], count = poly_cylinder_edge_crossings(&g, a, d, inside_a, inside_b, t, facet, enter, NULL);
   out[0] = inside_a, out[1] = inside_b, out[2] = count;
   for (int k = 0; k < count; k++) out[3 + 3 * k] = t[k], out[4 + 3 * k] = facet[k], out[5 + 3 * k] = enter[k];
 }
