@@ -194,7 +194,8 @@ __device__ __forceinline__ void finish_pair(int p, const PairBodies &pair, const
   const int place = slot[p];
   double negligible = body_i.negligible_volume < body_j.negligible_volume ? body_i.negligible_volume
                                                                           : body_j.negligible_volume;
-  if (!(geometry.volume > negligible) || !(geometry.depth > 0.0)) {
+  if (!(geometry.volume > negligible) || !(geometry.depth > 0.0) ||
+      !poly_contact_centroid_within(local_centroid, pair.translation, body_i.bounding_radius, body_j.bounding_radius)) {
     contact[p] = 0;
     for (int d = 0; d < POLY_HISTORY_SIZE; d++) pair_history[d] = 0.0;
     PairForce zero = {};

@@ -56,6 +56,7 @@ typedef struct poly_gpu_particle {
   int type;                      /* atom type, 1..num_types */
   double mass;
   double negligible_volume;      /* a pair's overlap at most the smaller of its two is no contact */
+  double bounding_radius;        /* an overlap whose centroid lies beyond it is no contact (poly_contact.h) */
 } poly_gpu_particle;
 
 /* Per particle, every step. */

@@ -36,7 +36,7 @@ PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
 #else
       precision(POLY_PRECISION_DOUBLE),
 #endif
-      recording(false), records_timestep(-1), warned_inconsistent(false), have_workspace(false), maxrad(NULL),
+      recording(false), records_timestep(-1), warned_inconsistent(false), warned_centroid(false), have_workspace(false), maxrad(NULL),
       fix_history(NULL), atom_ntypes(0)
 {
   degenerate.smoothed = degenerate.recomputed = degenerate.inconsistent = 0.0;
@@ -585,6 +585,21 @@ void PairPolyhedralVolumetric::count_degenerate(const poly_overlap_result &geome
   }
 }
 
+// Whether the overlap's centroid lies within both particles' bounding spheres (poly_contact_centroid_within);
+// one that does not is rounding, taken as no contact, and said once.
+bool PairPolyhedralVolumetric::centroid_within(int i, int j, const poly_overlap_result &geometry)
+{
+  double **x = atom->x, *radius = atom->radius, centroid[3], j_from_i[3];
+  for (int k = 0; k < 3; k++) centroid[k] = geometry.centroid[k] - x[i][k], j_from_i[k] = x[j][k] - x[i][k];
+  if (poly_contact_centroid_within(centroid, j_from_i, radius[i], radius[j])) return true;
+  if (!warned_centroid) {
+    warned_centroid = true;
+    error->warning(FLERR, "Pair polyhedral/volumetric: an overlap's centroid fell outside one of its two particles "
+                          "(a sliver thinner than the precision resolves); such overlaps are taken as no contact");
+  }
+  return false;
+}
+
 void PairPolyhedralVolumetric::record_contacts(Compute *compute, bool on)
 {
   std::vector<Compute *>::iterator found = std::find(recorders.begin(), recorders.end(), compute);
@@ -689,6 +704,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
           double volume_i = rmass[i] / density[i], volume_j = rmass[j] / density[j];
           double negligible = 1e-12 * (volume_i < volume_j ? volume_i : volume_j);
           in_contact = geometry.volume > negligible && geometry.depth > 0.0;
+          if (in_contact && !centroid_within(i, j, geometry)) in_contact = false;
           near_miss = !in_contact && !geometry.filtered_out;
           if (in_contact && from_cache) evaluations.from_cache++;
           if (near_miss && from_cache) evaluations.misses_from_cache++;

@@ -109,8 +109,9 @@ class PairPolyhedralVolumetric : public Pair {
   std::vector<PolyContactRecord> records;
   poly_degenerate_counts degenerate;
   EvaluationCounts evaluations;
-  bool warned_inconsistent;
+  bool warned_inconsistent, warned_centroid;
   void count_degenerate(const poly_overlap_result &geometry);
+  bool centroid_within(int i, int j, const poly_overlap_result &geometry);
 
   std::vector<poly_shape_view_d> views_d;  // indexed by shape number
   std::vector<poly_shape_view_f> views_f;

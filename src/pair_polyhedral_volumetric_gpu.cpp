@@ -141,6 +141,7 @@ void PairPolyhedralVolumetricGPU::send_pairs()
     particles[i].type = type[i];
     particles[i].mass = rmass[i];
     particles[i].negligible_volume = 1e-12 * rmass[i] / density[i];
+    particles[i].bounding_radius = atom->radius[i];
   }
   int inum = list->inum, *ilist = list->ilist, *numneigh = list->numneigh, **firstneigh = list->firstneigh;
   double **first_history = listgranhistory ? listgranhistory->firstdouble : NULL;

@@ -94,6 +94,23 @@ typedef struct poly_contact_output {
   double pressure_shift[3];  /* the force acts at centroid + pressure_shift (rocking damping) */
 } poly_contact_output;
 
+/* Whether an overlap's centroid (relative to particle i's centre; j's centre at j_from_i) lies within both
+ * particles' bounding spheres (radii radius_i, radius_j; 1e-6 of them to spare). The centroid of an overlap lies
+ * inside both particles, so one that does not is rounding: a sliver thinner than the precision resolves, whose
+ * moment over its volume came out anywhere (in a settled bed in single precision up to 2 m away, a lever that
+ * spun particles up; in double 8 cm once in 2000 particles' 210 steps). Such an overlap is no contact. */
+POLY_INLINE int poly_contact_centroid_within(const double *centroid, const double *j_from_i, double radius_i,
+                                             double radius_j)
+{
+  double from_i = 0.0, from_j = 0.0;
+  for (int k = 0; k < 3; k++) {
+    from_i += centroid[k] * centroid[k];
+    from_j += (centroid[k] - j_from_i[k]) * (centroid[k] - j_from_i[k]);
+  }
+  const double reach_i = (1.0 + 1e-6) * radius_i, reach_j = (1.0 + 1e-6) * radius_j;
+  return from_i <= reach_i * reach_i && from_j <= reach_j * reach_j;
+}
+
 /* The two bodies of a contact input: positions, velocities, angular
  * velocities, masses (mass_j = 0: a wall) and the time step. */
 POLY_INLINE void poly_contact_input_set_geometry(poly_contact_input *in, double volume, double depth,

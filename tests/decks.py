@@ -88,19 +88,39 @@ def read_all_dump_snapshots(path):
     return snapshots
 
 
-def settled_bed_energies(run_deck, workdir, pair, precision, steps=300, every=30, count=0):
+def settled_bed_energies(run_deck, workdir, pair, precision, steps=300, every=30, count=0, spin=False):
     """examples/gravity_packing/in.packing on tests/data/settled_bed_N2000.data (2000 Schoenhardt polyhedra of
     20 mm settled on its plane wall in double: examples/gravity_packing/gpus.sh's first stage with CELL=2000
     SETTLE=0.01 on the CPU, its final dump tiled once by tile_bed.py), from rest, for `steps` steps in
-    `precision`: the thermo rows {"Step", "KinEng", "erot"} every `every` steps. count=1 also counts contacts."""
+    `precision`: the thermo rows {"Step", "KinEng", "erot"} every `every` steps. count=1 also counts contacts;
+    spin=True adds "c_spin", the largest squared angular velocity of a particle (rad^2/s^2)."""
     import pathlib
     root = pathlib.Path(__file__).resolve().parent.parent
     deck = (root / "examples" / "gravity_packing" / "in.packing").read_text()
+    if spin:
+        deck = deck.replace("run             ${nsteps}\n", "compute omega all property/atom omegax omegay omegaz\n"
+                            "variable omega2 atom c_omega[1]^2+c_omega[2]^2+c_omega[3]^2\n"
+                            "compute spin all reduce max v_omega2\n"
+                            "thermo_style custom step ke c_erot c_spin\nrun             ${nsteps}\n")
+        assert "c_spin" in deck
     result = run_deck(deck, workdir=workdir, variables={
         "N": 2000, "wall": 1, "steps": steps, "M": every, "pair": pair, "precision": precision, "final": 0,
         "count": count, "data": root / "tests" / "data" / "settled_bed_N2000.data"})
     assert result.returncode == 0, result.output[-3000:]
-    return result.thermo("Step", "KinEng", "c_erot")
+    return result.thermo("Step", "KinEng", "c_erot", *(("c_spin",) if spin else ()))
+
+
+def largest_spins_on_settled_bed(run_deck, tmp_path, pair):
+    """settled_bed_energies in single and in double with `pair`, 300 steps, every step: the largest squared angular
+    velocity of any particle at any step in each, printed."""
+    fastest = {}
+    for precision in ("single", "double"):
+        rows = settled_bed_energies(run_deck, tmp_path / precision, pair, precision, every=1, spin=True)
+        fastest[precision] = max(rows["c_spin"])
+    print(f"\nsettled bed, {pair}: largest omega^2 {fastest['single']:.1f} (single) against "
+          f"{fastest['double']:.1f} (double)")
+    assert fastest["double"] > 0.0
+    return fastest["single"], fastest["double"]
 
 
 def mixed_against_double_on_settled_bed(run_deck, tmp_path, pair):

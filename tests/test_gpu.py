@@ -324,6 +324,16 @@ def test_gpu_mixed_precision_keeps_a_settled_bed_as_double_does(run_deck, tmp_pa
 
 
 @needs_gpu
+def test_gpu_single_precision_spins_no_particle_of_a_settled_bed_up(run_deck, tmp_path):
+    """test_single_precision's settled bed on the GPU style: the largest squared angular velocity of any particle
+    in single precision within 3 times double's over 300 steps (an overlap whose centroid falls outside its
+    particles is no contact on the GPU as on the host: poly_contact_centroid_within)."""
+    fastest_single, fastest_double = decks.largest_spins_on_settled_bed(run_deck, tmp_path,
+                                                                        "polyhedral/volumetric/gpu")
+    assert fastest_single <= 3.0 * fastest_double, (fastest_single, fastest_double)
+
+
+@needs_gpu
 def test_gpu_settled_deep_contacts_give_no_warning_at_a_later_run(run_deck, monkeypatch):
     """test_bad_input's settled stack with the GPU style, all its pairs on the device: the contacts were in
     contact at the step before (the host's touch flags at set-up), so the second run does not warn."""

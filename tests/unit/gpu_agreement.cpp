@@ -221,6 +221,7 @@ int main(int argc, char **argv)
         particles[n].type = 1;
         particles[n].mass = 2500.0 * shapes[s].volume;
         particles[n].negligible_volume = 1e-12 * shapes[s].volume;
+        particles[n].bounding_radius = shapes[s].bounding_radius;
       }
       pair_i[p] = 2 * p;
       pair_j[p] = 2 * p + 1;
@@ -320,7 +321,10 @@ int main(int argc, char **argv)
       if (precision == POLY_PRECISION_SINGLE) poly_overlap_f(&view_f, &pose_i, &view_f, &pose_j, &ws_f, &g);
       else if (precision == POLY_PRECISION_MIXED) poly_overlap_m(&view_f, &pose_i, &view_f, &pose_j, &ws_f, &g);
       else poly_overlap_d(&view_d, &pose_i, &view_d, &pose_j, &ws_d, &g);
-      int contact = g.volume > body.negligible_volume && g.depth > 0.0;
+      double centroid[3], b_from_a[3];
+      for (int k = 0; k < 3; k++) centroid[k] = g.centroid[k] - a.position[k], b_from_a[k] = b.position[k] - a.position[k];
+      int contact = g.volume > body.negligible_volume && g.depth > 0.0 &&
+                    poly_contact_centroid_within(centroid, b_from_a, body.bounding_radius, body.bounding_radius);
       double floor_volume = (precision == POLY_PRECISION_DOUBLE ? 1e-12 : 1e-6) * shapes[s].volume;
       if (contact != results[p].contact && (g.volume > floor_volume || results[p].volume > floor_volume)) {
         printf("FAIL shape %s pair %d: contact %d on the host, %d on the GPU\n", names[s], p, contact,
