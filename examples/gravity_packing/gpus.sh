@@ -8,9 +8,10 @@
 #            particles), T = TW (default the integer nearest 10 sqrt(G): about G times as many) and T = 3 (91,035)
 #   agree    per precision: the 91,035 bed, STEPS_AGREE (100, a multiple of 10) steps with G R ranks on one GPU
 #            and on G GPUs; the final positions compared; the G-GPU run writes a restart which a one-GPU run
-#            reads back and runs 10 steps on, compared with the G GPUs running those 10 steps unbroken (not 0:
-#            each `run` sets up with full-step velocities, the damping's forces among them; a restart is the same
-#            run split there to the bit, tests/test_parallel_restart.py)
+#            reads back and runs 10 steps on, compared with the G GPUs running all the steps with the run split
+#            at the restart's step (in.packing's `split`: a restart continues as such a split run does, to the bit,
+#            tests/test_parallel_restart.py; an unbroken run differs, each `run` setting up with full-step
+#            velocities, the damping's forces among them)
 #   scale    per precision: 10^6 on one GPU (R ranks), about G x 10^6 on G GPUs (G R ranks), 10^6 on G GPUs (G R
 #            ranks), STEPS (500) steps each: ms per step; weak scaling t(1 GPU, 10^6) / t(G GPUs, G x 10^6)
 #            (per particle), strong scaling t(1 GPU) / (G t(G GPUs)) at 10^6
@@ -69,7 +70,7 @@ if [[ " $STAGE " == *" agree "* ]]; then
   [ $((STEPS_AGREE % 10)) -eq 0 ] || { echo "gpus.sh: STEPS_AGREE must be a multiple of 10" >&2; exit 2; }
   n=$((9 * CELL)); ranks=$((G * R))
   for precision in $PRECISIONS; do
-    common=(-var N "$n" -var precision "$precision" -var steps "$STEPS_AGREE" -var M "$STEPS_AGREE")
+    common=(-var N "$n" -var precision "$precision" -var steps "$STEPS_AGREE" -var M 10)
     one=$(run 0 "$ranks" "post/log.gpus_agree_1gpu_$precision" "${common[@]}" \
           -var finalname "post/gpus_agree_1gpu_$precision.dump")
     many=$(run "$all_gpus" "$ranks" "post/log.gpus_agree_${G}gpu_$precision" "${common[@]}" \
@@ -78,9 +79,9 @@ if [[ " $STAGE " == *" agree "* ]]; then
     back=$(run 0 "$ranks" "post/log.gpus_restart_1gpu_$precision" -var N "$n" -var precision "$precision" \
            -var resume 1 -var restartfile "post/gpus_agree_$precision.restart" -var steps 10 -var M 10 \
            -var finalname "post/gpus_restart_1gpu_$precision.dump")
-    unbroken=$(run "$all_gpus" "$ranks" "post/log.gpus_unbroken_${G}gpu_$precision" -var N "$n" \
-               -var precision "$precision" -var steps $((STEPS_AGREE + 10)) -var M 10 \
-               -var finalname "post/gpus_unbroken_${G}gpu_$precision.dump")
+    split=$(run "$all_gpus" "$ranks" "post/log.gpus_split_${G}gpu_$precision" -var N "$n" \
+            -var precision "$precision" -var steps $((STEPS_AGREE + 10)) -var split "$STEPS_AGREE" -var M 10 \
+            -var finalname "post/gpus_split_${G}gpu_$precision.dump")
     "$PYTHON" - "$precision" "$G" "$one" "$many" "$back" >> "$report" <<'EOF'
 import sys
 precision, gpus, one_ms, many_ms, back_ms = sys.argv[1:]
@@ -104,13 +105,13 @@ def worst(a, b):
 one = snapshots(f"post/gpus_agree_1gpu_{precision}.dump")
 many = snapshots(f"post/gpus_agree_{gpus}gpu_{precision}.dump")
 back = snapshots(f"post/gpus_restart_1gpu_{precision}.dump")
-unbroken = snapshots(f"post/gpus_unbroken_{gpus}gpu_{precision}.dump")
+split = snapshots(f"post/gpus_split_{gpus}gpu_{precision}.dump")
 last, end = max(many), max(back)
 print(f"- agree, {precision}: {len(many[last])} particles, step {last}: largest position difference 1 GPU vs "
       f"{gpus} GPUs {worst(one[max(one)], many[last]):.3g} m (particle size 0.02 m); restart written on {gpus} "
       f"GPUs at step {last}, read on 1 GPU: at step {last} {worst(back[last], many[last]):.3g} m, at step {end} "
-      f"against {gpus} GPUs unbroken {worst(back[end], unbroken[end]):.3g} m ({one_ms} / {many_ms} / {back_ms} ms "
-      f"per step)")
+      f"against {gpus} GPUs running on with the run split there {worst(back[end], split[end]):.3g} m "
+      f"({one_ms} / {many_ms} / {back_ms} ms per step)")
 EOF
     tail -1 "$report"
   done
