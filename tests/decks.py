@@ -98,10 +98,11 @@ def settled_bed_energies(run_deck, workdir, pair, precision, steps=300, every=30
     root = pathlib.Path(__file__).resolve().parent.parent
     deck = (root / "examples" / "gravity_packing" / "in.packing").read_text()
     if spin:
-        deck = deck.replace("run             ${nsteps}\n", "compute omega all property/atom omegax omegay omegaz\n"
+        run = 'if "${split} > 0" then'
+        deck = deck.replace(run, "compute omega all property/atom omegax omegay omegaz\n"
                             "variable omega2 atom c_omega[1]^2+c_omega[2]^2+c_omega[3]^2\n"
                             "compute spin all reduce max v_omega2\n"
-                            "thermo_style custom step ke c_erot c_spin\nrun             ${nsteps}\n")
+                            "thermo_style custom step ke c_erot c_spin\n" + run)
         assert "c_spin" in deck
     result = run_deck(deck, workdir=workdir, variables={
         "N": 2000, "wall": 1, "steps": steps, "M": every, "pair": pair, "precision": precision, "final": 0,
