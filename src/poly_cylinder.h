@@ -549,6 +549,12 @@ typedef struct poly_cylinder_edge_memo {
   int facet[POLY_CYLINDER_EDGE_MEMO][2], enter[POLY_CYLINDER_EDGE_MEMO][2];
 } poly_cylinder_edge_memo;
 
+/* Empties the memo: a call's first step. */
+POLY_INLINE void poly_cylinder_edge_memo_clear(poly_cylinder_edge_memo *memo)
+{
+  for (int i = 0; i < POLY_CYLINDER_EDGE_MEMO; i++) memo->low[i] = -1;
+}
+
 /* Triangles nearer vertical than this (|n_z| of the unit normal below it) have their pieces integrated in 3D
  * (poly_cylinder_fast_piece): in projection the integrals divide by n_z, which magnifies the rounding by up
  * to 1 / POLY_CYLINDER_MIN_TILT. */
@@ -614,45 +620,30 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const int *corne
   int count = 0;
   for (int i = 0; i < 3; i++) {
     int next = (i + 1) % 3;
-    if (memo) { /* along the edge from its lower-numbered vertex, or as its other triangle found it */
-      const int reversed = corners_of[next] < corners_of[i], from = reversed ? next : i, to = reversed ? i : next;
-      const int low = corners_of[from], high = corners_of[to];
-      const int slot = (int)(((unsigned)low * 40503u + (unsigned)high) & (POLY_CYLINDER_EDGE_MEMO - 1));
-      if (memo->low[slot] != low || memo->high[slot] != high) {
-        const double a[2] = {p[from][0], p[from][1]}, d[2] = {p[to][0] - p[from][0], p[to][1] - p[from][1]};
-        double t[2];
-        int *facet = memo->facet[slot], *enter = memo->enter[slot];
-        int n = poly_cylinder_edge_crossings(g, a, d, inside[from], inside[to], t, facet, enter, memo->normal[slot]);
-        for (int k = 0; k < n; k++) {
-          memo->x[slot][k][0] = a[0] + t[k] * d[0];
-          memo->x[slot][k][1] = a[1] + t[k] * d[1];
-          memo->x[slot][k][2] = p[from][2] + t[k] * (p[to][2] - p[from][2]);
-        }
-        memo->low[slot] = low, memo->high[slot] = high, memo->count[slot] = n;
+    /* Along the edge from its lower-numbered vertex, or as its other triangle found it. */
+    const int reversed = corners_of[next] < corners_of[i], from = reversed ? next : i, to = reversed ? i : next;
+    const int low = corners_of[from], high = corners_of[to];
+    const int slot = (int)(((unsigned)low * 40503u + (unsigned)high) & (POLY_CYLINDER_EDGE_MEMO - 1));
+    if (memo->low[slot] != low || memo->high[slot] != high) {
+      const double a[2] = {p[from][0], p[from][1]}, d[2] = {p[to][0] - p[from][0], p[to][1] - p[from][1]};
+      double t[2];
+      int *facet = memo->facet[slot], *enter = memo->enter[slot];
+      int n = poly_cylinder_edge_crossings(g, a, d, inside[from], inside[to], t, facet, enter, memo->normal[slot]);
+      for (int k = 0; k < n; k++) {
+        memo->x[slot][k][0] = a[0] + t[k] * d[0];
+        memo->x[slot][k][1] = a[1] + t[k] * d[1];
+        memo->x[slot][k][2] = p[from][2] + t[k] * (p[to][2] - p[from][2]);
       }
-      const int n = memo->count[slot];
-      for (int k = 0; k < n; k++, count++) {
-        const int j = reversed ? n - 1 - k : k;
-        for (int axis = 0; axis < 3; axis++) crossing[count].x[axis] = memo->x[slot][j][axis];
-        crossing[count].normal[0] = memo->normal[slot][j][0], crossing[count].normal[1] = memo->normal[slot][j][1];
-        crossing[count].edge = i;
-        crossing[count].facet = memo->facet[slot][j];
-        crossing[count].enter = reversed ? !memo->enter[slot][j] : memo->enter[slot][j];
-      }
-      continue;
+      memo->low[slot] = low, memo->high[slot] = high, memo->count[slot] = n;
     }
-    const double a[2] = {p[i][0], p[i][1]}, d[2] = {p[next][0] - p[i][0], p[next][1] - p[i][1]};
-    double t[2];
-    double normal[2][2];
-    int facet[2], enter[2], n = poly_cylinder_edge_crossings(g, a, d, inside[i], inside[next], t, facet, enter, normal);
+    const int n = memo->count[slot];
     for (int k = 0; k < n; k++, count++) {
-      crossing[count].normal[0] = normal[k][0], crossing[count].normal[1] = normal[k][1];
-      crossing[count].x[0] = a[0] + t[k] * d[0];
-      crossing[count].x[1] = a[1] + t[k] * d[1];
-      crossing[count].x[2] = p[i][2] + t[k] * (p[next][2] - p[i][2]);
+      const int j = reversed ? n - 1 - k : k;
+      for (int axis = 0; axis < 3; axis++) crossing[count].x[axis] = memo->x[slot][j][axis];
+      crossing[count].normal[0] = memo->normal[slot][j][0], crossing[count].normal[1] = memo->normal[slot][j][1];
       crossing[count].edge = i;
-      crossing[count].facet = facet[k];
-      crossing[count].enter = enter[k];
+      crossing[count].facet = memo->facet[slot][j];
+      crossing[count].enter = reversed ? !memo->enter[slot][j] : memo->enter[slot][j];
     }
   }
   if (count == 0) { /* wholly on one side */
@@ -751,7 +742,8 @@ POLY_INLINE void poly_cylinder_fast_piece(const double (*p)[3], const int *corne
   sums->area += sqrt(norm2) * fabs(scale);
 }
 
-/* Triangle p's part in the polygon's solid (world frame, relative to the axis and the particle's centre's z),
+/* Triangle p's part in the polygon's solid (world frame, relative to the axis and the particle's centre's z;
+ * corners_of: its vertices' numbers in the shape, for the call's edge memo `memo`),
  * added to the sums: nothing for a triangle wholly off the solid (inside the inscribed circle for the drum,
  * beyond the corner circle for the pillar), the whole triangle when wholly in it, else its pieces: every
  * sector where its projection reaches the axis, the fast path (fast = 1) or the sector-by-sector clipping.
@@ -834,7 +826,7 @@ POLY_INLINE void poly_cylinder_overlap_with(const poly_shape_view_d *shape, cons
       near[i] = poly_cylinder_may_reach(toward, shape->vertices + 3 * i, above, below);
 
   poly_cylinder_edge_memo memo;
-  for (int i = 0; i < POLY_CYLINDER_EDGE_MEMO; i++) memo.low[i] = -1;
+  poly_cylinder_edge_memo_clear(&memo);
   poly_cylinder_sums sums = {0.0, {0.0, 0.0, 0.0}, 0.0, {0.0, 0.0, 0.0}};
   double nearest2 = INFINITY;
   for (int t = 0; t < shape->num_triangles; t++) {

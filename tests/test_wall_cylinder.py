@@ -64,7 +64,10 @@ void shim_cylinder_triangle(const double *p, double radius, int facets, int drum
 {
   poly_cylinder_polygon g = poly_cylinder_polygon_of(radius, facets);
   poly_cylinder_sums sums = {0.0, {0.0, 0.0, 0.0}, 0.0, {0.0, 0.0, 0.0}};
-  poly_cylinder_triangle((const double (*)[3])p, NULL, NULL, &g, drum, fast, &sums);
+  poly_cylinder_edge_memo memo;
+  poly_cylinder_edge_memo_clear(&memo);
+  const int corners[3] = {0, 1, 2};
+  poly_cylinder_triangle((const double (*)[3])p, corners, &memo, &g, drum, fast, &sums);
   out[0] = sums.volume, out[4] = sums.area;
   for (int k = 0; k < 3; k++) out[1 + k] = sums.moment[k], out[5 + k] = sums.area_vector[k];
 }
