@@ -139,7 +139,7 @@ OverlapProbe *new_overlap_probe(LAMMPS *lmp)
 const double kInitialOverlapFraction = 0.01;
 // if they also hold this fraction of a cube as deep as their depth: a pair of non-convex particles touching at
 // spots a particle size apart has one contact whose depth is the spots' spread along its normal (one contact per
-// pair, document 000 sec. 5.4), millimetres for volumes of 1e-16 m^3 in a settled bed of Schoenhardt polyhedra
+// pair, document 000 sec. 5.4), millimetres for volumes of 3e-16 m^3 in a settled bed of Schoenhardt polyhedra
 // (723 of its 5385 overlapping pairs), and is no deep overlap; a cube's corner pushed in that deep holds a sixth
 // of such a cube.
 const double kInitialOverlapFill = 0.01;

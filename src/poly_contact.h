@@ -97,8 +97,8 @@ typedef struct poly_contact_output {
 /* Whether an overlap's centroid (relative to particle i's centre; j's centre at j_from_i) lies within both
  * particles' bounding spheres (radii radius_i, radius_j; 1e-6 of them to spare). The centroid of an overlap lies
  * inside both particles, so one that does not is rounding: a sliver thinner than the precision resolves, whose
- * moment over its volume came out anywhere (in a settled bed in single precision up to 2 m away, a lever that
- * spun particles up; in double 8 cm once in 2000 particles' 210 steps). Such an overlap is no contact. */
+ * moment over its volume came out anywhere (in a settled bed in single precision far outside the particles, a lever
+ * that spun particles up: tests/test_single_precision.py). Such an overlap is no contact. */
 POLY_INLINE int poly_contact_centroid_within(const double *centroid, const double *j_from_i, double radius_i,
                                              double radius_j)
 {

@@ -300,7 +300,7 @@ def test_mixed_precision_keeps_a_settled_bed_as_double_does(run_deck, tmp_path):
 def test_single_precision_spins_no_particle_of_a_settled_bed_up(run_deck, tmp_path):
     """The settled bed of 2000 Schoenhardt polyhedra, 300 steps from rest in single and in double precision: the
     largest squared angular velocity of any particle at any step within 3 times double's. A sliver overlap thinner
-    than single precision resolves had its centroid, a ratio of two sums of rounding, up to 2 m from the
+    than single precision resolves had its centroid, a ratio of two sums of rounding, far outside both
     particles: its force's lever spun a particle to 40 rad/s within two steps (1582 rad^2/s^2 at step 203 against
     double's largest, 181, over 600 steps). Such an overlap is no contact now (poly_contact_centroid_within); with
     that, 173 over 600 steps (the limit of 3 was set after these figures)."""

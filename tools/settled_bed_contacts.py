@@ -1,0 +1,58 @@
+#!/usr/bin/env python3
+"""The contacts of tests/data/settled_bed_N2000.data (2000 Schoenhardt polyhedra settled on their plane wall) as
+the pair style finds them at set-up, through examples/gravity_packing/in.packing:
+
+    python3 tools/settled_bed_contacts.py [LIGGGHTS] [double|single|mixed]
+
+(LIGGGHTS: a liggghts-poly, default build/bin/liggghts-poly.) Prints the contacts, those with a depth above 1 % of
+the bounding diameter (the set-up's warning's depth) and what their volumes and depths are: a pair touching at
+spots a particle size apart is one contact whose depth is the spots' spread along its normal (doc/pair_polyhedral_
+volumetric.md, Restrictions), and its normal force, which grows with sqrt(V delta), is that of a one-spot contact
+1e-5 m deep with delta / 1e-5 m times its volume."""
+import os
+import pathlib
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+BOUNDING_DIAMETER = 2 * 0.0186287969  # schoenhardt.stl at in.packing's scale (the bounding radius the template prints)
+
+
+def main():
+    launcher = sys.argv[1] if len(sys.argv) > 1 else str(ROOT / "build" / "bin" / "liggghts-poly")
+    precision = sys.argv[2] if len(sys.argv) > 2 else "double"
+    deck = (ROOT / "examples" / "gravity_packing" / "in.packing").read_text()
+    run = 'if "${split} > 0" then'
+    assert run in deck
+    deck = deck.replace(run, "dump contacts all local 1 contacts.txt c_pairs[1] c_pairs[2] c_pairs[3] c_pairs[4]\n"
+                             "dump_modify contacts first yes\n" + run)
+    with tempfile.TemporaryDirectory() as work:
+        (pathlib.Path(work) / "in.deck").write_text(deck)
+        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        result = subprocess.run([launcher, "-in", "in.deck", "-log", "log.lammps", "-screen", "none",
+                                 "-var", "N", "2000", "-var", "wall", "1", "-var", "steps", "1", "-var", "count", "1",
+                                 "-var", "final", "0", "-var", "precision", precision,
+                                 "-var", "SHAPES", str(ROOT / "examples" / "shapes"),
+                                 "-var", "data", str(ROOT / "tests" / "data" / "settled_bed_N2000.data")],
+                                cwd=work, capture_output=True, text=True, env=env)
+        if result.returncode != 0:
+            sys.exit(result.stdout + result.stderr)
+        lines = (pathlib.Path(work) / "contacts.txt").read_text().splitlines()
+    start = lines.index("ITEM: TIMESTEP")
+    count = int(lines[start + 3])
+    rows = [[float(w) for w in line.split()] for line in lines[start + 9:start + 9 + count]]
+    deep = [row for row in rows if row[3] > 0.01 * BOUNDING_DIAMETER]
+    print(f"settled bed, {precision}, step {lines[start + 1]}: {len(rows)} contacts, median volume "
+          f"{statistics.median(r[2] for r in rows):.3g} m^3, median depth "
+          f"{statistics.median(r[3] for r in rows):.3g} m")
+    if deep:
+        print(f"{len(deep)} deeper than 1 % of the bounding diameter: depths {min(r[3] for r in deep):.3g} to "
+              f"{max(r[3] for r in deep):.3g} m, volumes median {statistics.median(r[2] for r in deep):.3g} m^3; "
+              f"sqrt(V delta) of a 1e-5 m deep contact with {min(r[3] for r in deep) / 1e-5:.0f} to "
+              f"{max(r[3] for r in deep) / 1e-5:.0f} times their volume")
+
+
+if __name__ == "__main__":
+    main()
