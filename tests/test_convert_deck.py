@@ -27,6 +27,14 @@ def run(launcher, workdir, deck):
 
 
 INSERTED = re.compile(r"a total of (\d+) particle templates \(mass (\S+)\) inserted so far")
+RATE = re.compile(r"particles every (\d+) steps - particle rate (\S+),")
+WAVE = re.compile(r"INFO: Particle insertion \S+: inserted \d+ particle templates")
+
+
+# Decks whose insert/pack fills a region to a volume fraction: the least share of the spheres' count the rocks must
+# reach (fewer only with LIGGGHTS' own warning); measured: heatTransfer_1 852 rocks against 890 spheres,
+# movingMeshGran 868 against 982 after its first 3000 steps (two of its four waves).
+PACKED_SHORT = {"heatTransfer_1/in.heatGran": 0.9, "movingMeshGran": 0.85}
 
 
 @pytest.mark.parametrize("name, steps, expected_notes, compare_energy", [
@@ -34,18 +42,30 @@ INSERTED = re.compile(r"a total of (\d+) particle templates \(mass (\S+)\) inser
      False),
     ("chute_wear", 6000, [], True),
     ("conveyor", 6000, ["extrude_length 0.1 -> 0.1008"], True),
+    ("heatTransfer_1/in.heatGran", 4000, ["NOT CONVERTED, commented out: fix heat/gran", "columns of commented-out fixes and computes "
+                              "dropped: f_heattransfer", "dump dmp: the columns of commented-out fixes and computes "
+                              "dropped: f_Temp[0] f_heatFlux[0]", "set ... property/atom Temp"], True),
+    ("insert_stream", 3000, [], True),
+    ("meshGran", 3000, ["model hooke -> model hertz", "model hooke -> model hertz", "extrude_length 0.02 -> 0.02016"],
+     True),
+    ("contactModels/in.newModels", 3000, [], True),
+    ("cohesion", 3000, [], False),
+    ("hysteresis/in.noHysteresis", 3000, ["model hooke -> model hertz"] * 4, False),
+    ("movingMeshGran", 3000, ["model hooke -> model hertz"] * 8, False),
 ])
 def test_tutorial_converts_and_runs_as_shipped(launcher, tmp_path, name, steps, expected_notes, compare_energy):
     """The tutorial converted to rock_40 (the spheres' volume, so their mass) runs its first `steps` steps with
-    no manual edit, and inserts the same number and mass of particles as the sphere deck as shipped, in the same
-    run length, and loses none (the tutorials ignore lost atoms: a loss would be silent); in the streams of
-    chute_wear and conveyor the kinetic energy at the end is the spheres' within 10 % (the packing tutorial has no
-    gravity: its spheres move only by growing, which rocks do not); the converter lists exactly the lines it
-    changed in meaning or left out."""
-    source = TUTORIALS / name / f"in.{name}"
+    no manual edit, and inserts the same number and mass of particles as the sphere deck as shipped (or, where insert/pack fills a
+    region to a volume fraction, at least PACKED_SHORT's share with LIGGGHTS' warning), in the same run length,
+    and loses none (the tutorials ignore lost atoms: a loss would be silent); in the streams of
+    chute_wear and conveyor and the heat-transfer bed (without its heat: polyhedral contacts conduct none) the
+    kinetic energy at the end is the spheres' within 10 % (the packing tutorial has no gravity: its spheres move
+    only by growing, which rocks do not); the converter lists exactly the lines it changed in meaning or left out."""
+    directory, _, deck_name = name.partition("/")
+    source = TUTORIALS / directory / (deck_name or f"in.{directory}")
     if not source.exists():
         pytest.skip(f"{source} missing: install Debian's liggghts-doc (tools/debian_deps.sh)")
-    converted = tmp_path / f"in.{name}.rocks"
+    converted = tmp_path / f"{source.name}.rocks"
     report = subprocess.run(CONVERT + [str(source), str(converted), "--shape", "rock_40.obj"],
                             capture_output=True, text=True)
     assert report.returncode == 0, report.stdout + report.stderr
@@ -54,22 +74,41 @@ def test_tutorial_converts_and_runs_as_shipped(launcher, tmp_path, name, steps, 
     assert len(notes) == len(expected_notes), notes
     for expected in expected_notes:
         assert any(expected in note for note in notes), (expected, notes)
-    counts, last = {}, {}
+    counts, last, short_warning, rate = {}, {}, {}, {}
     for kind, deck in (("rocks", converted.read_text()), ("spheres", source.read_text())):
         workdir = tmp_path / kind
-        shutil.copytree(TUTORIALS / name, workdir, ignore=shutil.ignore_patterns("in.*"))
+        shutil.copytree(TUTORIALS / directory, workdir, ignore=shutil.ignore_patterns("in.*"))
         code, output = run(launcher, workdir, shorten(deck, steps))
         assert code == 0 and "ERROR" not in output, output[-3000:]
         counts[kind] = INSERTED.findall(output)[-1]
-        runs = parse_log((workdir / "log.lammps").read_text())
+        short_warning[kind] = "Less insertions than requested" in output
+        log = (workdir / "log.lammps").read_text()
+        rate[kind] = RATE.findall(log)
+        if kind == "rocks":
+            rock_log = log
+        runs = parse_log(log)
         last[kind] = dict(zip(runs[-1]["columns"], runs[-1]["rows"][-1]))
     rocks, spheres = counts["rocks"], counts["spheres"]
     print(f"{name}: inserted rocks {rocks}, spheres {spheres}; at the end rocks {last['rocks']}, "
           f"spheres {last['spheres']}")
-    assert int(rocks[0]) == int(spheres[0]) > 0
-    assert float(rocks[1]) == pytest.approx(float(spheres[1]), rel=1e-6)
+    if rate["rocks"] and rate["rocks"] != rate["spheres"]:
+        # insert/stream with its extrude_length lengthened (a note above): the same particle rate, over a longer
+        # interval of a fractional count, so at a given step the counts may differ by the rounding, at most one a
+        # wave (meshGran: 20.15 particles every 403 steps against 20 every 400, 162 against 160 at step 3000).
+        assert rate["rocks"][-1][1] == rate["spheres"][-1][1], rate
+        waves = len(WAVE.findall(rock_log))
+        assert abs(int(rocks[0]) - int(spheres[0])) <= waves, (rocks, spheres, waves)
+        assert float(rocks[1]) / int(rocks[0]) == pytest.approx(float(spheres[1]) / int(spheres[0]), rel=1e-6)
+    elif name in PACKED_SHORT and int(rocks[0]) < int(spheres[0]):
+        # insert/pack to a volume fraction, checked by the exact shapes: a rock's bounding sphere holds 2.4 times
+        # its volume, so a dense fill may place fewer rocks, and LIGGGHTS says so.
+        assert short_warning["rocks"] and int(rocks[0]) >= PACKED_SHORT[name] * int(spheres[0]) > 0, (rocks, spheres)
+        assert float(rocks[1]) / int(rocks[0]) == pytest.approx(float(spheres[1]) / int(spheres[0]), rel=1e-6)
+    else:
+        assert int(rocks[0]) == int(spheres[0]) > 0
+        assert float(rocks[1]) == pytest.approx(float(spheres[1]), rel=1e-6)
     assert last["rocks"]["Step"] == last["spheres"]["Step"] == steps
-    assert last["rocks"]["Atoms"] == last["spheres"]["Atoms"] == int(rocks[0])
+    assert last["rocks"]["Atoms"] == int(rocks[0]) and last["spheres"]["Atoms"] == int(spheres[0])
     if compare_energy:
         assert last["spheres"]["KinEng"] > 0
         assert last["rocks"]["KinEng"] == pytest.approx(last["spheres"]["KinEng"], rel=0.1)

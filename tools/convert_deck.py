@@ -21,8 +21,9 @@ Rewrites what makes the particles spheres and keeps everything else as written:
 Lines it cannot convert, or converts with a change of meaning, are listed on the standard output with the
 reason, one per line ("line N: ..."). Lines that would stop the converted deck (LIGGGHTS' sphere-only commands:
 fix adapt of the diameter, cohesion and rolling-friction models, radius distributions, multisphere templates,
-per-contact local computes of pair gran) are kept in OUT as comments ("# convert_deck: ..."), together with the lines
-that only served them (their unfix, their thermo columns), so that OUT runs as it is. Exit status 0, or 1 for a
+per-contact local computes of pair gran, heat conduction by fix heat/gran) are kept in OUT as comments ("#
+convert_deck: ..."), together with the lines that only served them (their unfix, their thermo columns, dumps and
+`set`s of their per-atom properties), so that OUT runs as it is. Exit status 0, or 1 for a
 deck with no particle template or an unknown shape file.
 """
 import argparse
@@ -150,6 +151,11 @@ class Converter:
             return self.insertion(number, words)
         if style == "adapt" and "diameter" in words:
             return "fix adapt ... diameter: polyhedra do not grow (to pack denser, insert at the target fraction)"
+        if style == "heat/gran":
+            # heat/gran keeps its temperatures and fluxes in per-atom properties of these names (LIGGGHTS'
+            # fix_heat_gran.cpp): what reads them goes with it.
+            self.dropped_ids.update(("Temp", "heatFlux", "heatSource", "directionalHeatFlux"))
+            return "fix heat/gran conducts heat through pair gran's contacts; polyhedral contacts conduct none"
         if style in ("ave/euler", "ave/euler/stress"):
             return f"fix {style} takes volumes from bounding spheres; use compute property/polyhedron volume"
         if command == "compute" and style == "contact/atom":
@@ -164,6 +170,10 @@ class Converter:
             return "set ... diameter: the shape sets a polyhedron's size (scale of its template)"
         if command == "unfix" and len(words) > 1 and words[1] in self.dropped_ids:
             return f"unfix of the commented-out fix {words[1]}"
+        if command == "set" and "property/atom" in words and self.dropped_ids:
+            k = words.index("property/atom")
+            if words[k + 1:k + 2] and words[k + 1] in self.dropped_ids:
+                return f"set ... property/atom {words[k + 1]}: the property of a commented-out fix"
         if command in ("thermo_style", "fix", "compute", "variable", "dump") and self.dropped_ids:
             return self.without_dropped_references(number, words)
         return None
@@ -201,9 +211,12 @@ class Converter:
         kept = [w for w in words if not pattern.match(w)]
         if kept == words:
             return None
+        dropped = " ".join(w for w in words if pattern.match(w))
         if words[0] == "thermo_style":
-            self.note(number, "thermo_style: the columns of commented-out fixes and computes dropped: " +
-                      " ".join(w for w in words if pattern.match(w)))
+            self.note(number, "thermo_style: the columns of commented-out fixes and computes dropped: " + dropped)
+            return kept
+        if words[0] == "dump" and len(kept) > 6:  # dump ID group style N file, then its columns: some are left
+            self.note(number, f"dump {words[1]}: the columns of commented-out fixes and computes dropped: {dropped}")
             return kept
         return f"{words[0]} reads a commented-out fix or compute"
 
