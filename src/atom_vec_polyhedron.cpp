@@ -1,6 +1,7 @@
 #include "atom_vec_polyhedron.h"
 #include "compute_pair_polyhedral_local.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,7 @@
 #include "domain.h"
 #include "domain_wedge.h"
 #include "error.h"
+#include "polyhedral_input.h"
 #include "fix.h"
 #include "memory.h"
 #include "modify.h"
@@ -120,6 +122,13 @@ void AtomVecPolyhedron::resolve_shape(int i)
     error->one(FLERR, message);
   }
   const poly_shape &shape = shape_template->shape();
+  if (!shape_template->gives_usable_mass(density[i])) {
+    char message[256];
+    snprintf(message, sizeof message,
+             "Particle %d: density %g gives shape %d (template '%s', volume %g) no finite positive mass and inertia",
+             tag[i], density[i], shapetype[i], shape_template->id, shape.volume);
+    error->one(FLERR, message);
+  }
   double mass = density[i] * shape.volume;
   // Density is authoritative (`set density` may have changed it); a mass read
   // from a restart file must match, or the templates are not those of the run
@@ -541,17 +550,28 @@ void AtomVecPolyhedron::data_atom(double *coord, tagint imagetmp, char **values)
   type[nlocal] = atoi(values[1]);
   if (type[nlocal] <= 0 || type[nlocal] > atom->ntypes)
     error->one(FLERR, "Invalid atom type in Atoms section of data file");
-  shapetype[nlocal] = atoi(values[2]);
-  if (shapetype[nlocal] <= 0) error->one(FLERR, "Invalid shape in Atoms section of data file (must be >= 1)");
-  density[nlocal] = atof(values[3]);
-  if (!(density[nlocal] > 0.0)) error->one(FLERR, "Invalid density in Atoms section of data file");
-  double norm = 0.0;
+  // Our columns read whole and finite (atof would take "2500x" as 2500, "1e400" as inf, "1.7" as shape 1).
+  char *end = NULL;
+  const long shape = strtol(values[2], &end, 10);
+  if (*end || end == values[2] || shape <= 0 || shape > INT_MAX)
+    error->one(FLERR, "Invalid shape in Atoms section of data file (must be an integer >= 1)");
+  shapetype[nlocal] = (int) shape;
+  if (!polyhedral_parse_finite(values[3], &density[nlocal]) || !(density[nlocal] > 0.0))
+    error->one(FLERR, "Invalid density in Atoms section of data file (must be a finite number > 0)");
+  double q[4], largest = 0.0;
   for (int k = 0; k < 4; k++) {
-    quaternion[nlocal][k] = atof(values[7 + k]);
-    norm += quaternion[nlocal][k] * quaternion[nlocal][k];
+    if (!polyhedral_parse_finite(values[7 + k], &q[k]))
+      error->one(FLERR, "Invalid quaternion in Atoms section of data file (four finite numbers)");
+    largest = fmax(largest, fabs(q[k]));
   }
-  if (!(norm > 0.0)) error->one(FLERR, "Invalid quaternion in Atoms section of data file");
-  for (int k = 0; k < 4; k++) quaternion[nlocal][k] /= sqrt(norm);
+  if (!(largest > 0.0)) error->one(FLERR, "Invalid quaternion in Atoms section of data file (all zero)");
+  // Components near the double range's ends would overflow or vanish when squared: scaled first (other
+  // quaternions, write_data's among them, are read exactly as before).
+  if (largest > 1e150 || largest < 1e-150)
+    for (int k = 0; k < 4; k++) q[k] /= largest;
+  double norm = 0.0;
+  for (int k = 0; k < 4; k++) norm += q[k] * q[k];
+  for (int k = 0; k < 4; k++) quaternion[nlocal][k] = q[k] / sqrt(norm);
   image[nlocal] = imagetmp;
 }
 

@@ -10,6 +10,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "polyhedral_input.h"
 #include "force.h"
 #include "group.h"
 
@@ -25,14 +26,7 @@ CreatePolyhedron::CreatePolyhedron(LAMMPS *lmp) : Pointers(lmp) {}
 // (LIGGGHTS' force->numeric says only "Expected floating point parameter").
 static double number(Error *error, const char *what, const char *text)
 {
-  char *end = NULL;
-  double value = strtod(text, &end);
-  if (end == text || *end != '\0' || !isfinite(value)) {
-    char message[256];
-    snprintf(message, sizeof message, "create_polyhedron: %s needs a finite number, got '%s'", what, text);
-    error->all(FLERR, message);
-  }
-  return value;
+  return polyhedral_finite_number(error, "create_polyhedron", what, text);
 }
 
 void CreatePolyhedron::command(int narg, char **arg)
@@ -52,12 +46,29 @@ void CreatePolyhedron::command(int narg, char **arg)
   double position[3], quat[4] = {1.0, 0.0, 0.0, 0.0}, velocity[3] = {0.0, 0.0, 0.0}, omega[3] = {0.0, 0.0, 0.0};
   static const char *const position_names[3] = {"position x", "position y", "position z"};
   for (int k = 0; k < 3; k++) position[k] = number(error, position_names[k], arg[1 + k]);
+  bool given_quat = false, given_vel = false, given_omega = false;
   for (int iarg = 4; iarg < narg;) {
+    bool *given = strcmp(arg[iarg], "quat") == 0 ? &given_quat
+                  : strcmp(arg[iarg], "vel") == 0 ? &given_vel
+                  : strcmp(arg[iarg], "omega") == 0 ? &given_omega : NULL;
+    if (given && *given) {
+      char message[256];
+      snprintf(message, sizeof message, "create_polyhedron: '%s' given twice", arg[iarg]);
+      error->all(FLERR, message);
+    }
+    if (given) *given = true;
     if (strcmp(arg[iarg], "quat") == 0) {
       if (iarg + 5 > narg) error->all(FLERR, "create_polyhedron: 'quat' needs 4 values w i j k");
-      for (int k = 0; k < 4; k++) quat[k] = number(error, "'quat'", arg[iarg + 1 + k]);
-      double norm = sqrt(quat[0] * quat[0] + quat[1] * quat[1] + quat[2] * quat[2] + quat[3] * quat[3]);
-      if (!(norm > 0.0)) error->all(FLERR, "create_polyhedron: 'quat' must not be zero");
+      double largest = 0.0;
+      for (int k = 0; k < 4; k++) {
+        quat[k] = number(error, "'quat'", arg[iarg + 1 + k]);
+        largest = fmax(largest, fabs(quat[k]));
+      }
+      if (!(largest > 0.0)) error->all(FLERR, "create_polyhedron: 'quat' must not be zero");
+      // Components near the double range's ends would overflow or vanish when squared (1e200 1e200 0 0 came out
+      // as the identity): scaled first; other quaternions exactly as before.
+      if (largest > 1e150 || largest < 1e-150)
+        for (int k = 0; k < 4; k++) quat[k] /= largest;
       poly_quat_normalize(quat);
       iarg += 5;
     } else if (strcmp(arg[iarg], "vel") == 0 || strcmp(arg[iarg], "omega") == 0) {

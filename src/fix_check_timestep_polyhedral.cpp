@@ -1,5 +1,6 @@
 #include "fix_check_timestep_polyhedral.h"
 
+#include <limits.h>
 #include <math.h>
 #include <mpi.h>
 #include <stdio.h>
@@ -37,13 +38,15 @@ FixCheckTimestepPolyhedral::FixCheckTimestepPolyhedral(LAMMPS *lmp, int narg, ch
     error->all(FLERR, "Fix check/timestep/polyhedral: expected 'nevery fraction_rayleigh fraction_hertz "
                       "[warn yes|no]', as fix check/timestep/gran");
   char *end = NULL;
-  nevery = (int) strtol(arg[3], &end, 10);
-  if (*end || nevery <= 0) error->all(FLERR, "Fix check/timestep/polyhedral: nevery must be a positive integer");
+  const long every = strtol(arg[3], &end, 10);
+  if (*end || end == arg[3] || every <= 0 || every > INT_MAX)
+    error->all(FLERR, "Fix check/timestep/polyhedral: nevery must be a positive integer");
+  nevery = (int) every;
   rayleigh_limit = strtod(arg[4], &end);
-  bool bad = *end || !(rayleigh_limit > 0.0);
+  bool bad = *end || end == arg[4] || !(rayleigh_limit > 0.0 && isfinite(rayleigh_limit));
   hertz_limit = strtod(arg[5], &end);
-  if (bad || *end || !(hertz_limit > 0.0))
-    error->all(FLERR, "Fix check/timestep/polyhedral: the two fractions must be positive numbers");
+  if (bad || *end || end == arg[5] || !(hertz_limit > 0.0 && isfinite(hertz_limit)))
+    error->all(FLERR, "Fix check/timestep/polyhedral: the two fractions must be finite positive numbers");
   if (narg == 8) {
     if (strcmp(arg[6], "warn") != 0 || (strcmp(arg[7], "yes") != 0 && strcmp(arg[7], "no") != 0))
       error->all(FLERR, "Fix check/timestep/polyhedral: unknown keyword; the only one is 'warn yes|no'");

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <algorithm>
+#include <string>
 #include <vector>
 
 #include <mpi.h>
@@ -17,6 +18,7 @@
 #include "update.h"
 #include "domain.h"
 #include "error.h"
+#include "polyhedral_input.h"
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
@@ -30,17 +32,10 @@ static const char *const kStyle = "particletemplate/polyhedron";
 static bool is_own_keyword(const char *word) { return strcmp(word, "file") == 0 || strcmp(word, "scale") == 0; }
 
 // A finite number, all of `text`; LIGGGHTS' force->numeric would not name the keyword.
-static bool parse_number(const char *text, double *value)
-{
-  char *end = NULL;
-  *value = strtod(text, &end);
-  return end != text && *end == '\0' && isfinite(*value);
-}
-
 static void require_number(LAMMPS *lmp, char **arg, const char *keyword, const char *text)
 {
   double value;
-  if (parse_number(text, &value)) return;
+  if (polyhedral_parse_finite(text, &value)) return;
   char message[512];
   snprintf(message, sizeof message, "Fix %s (id %s): '%s' needs a finite number, got '%s'", kStyle, arg[0], keyword,
            text);
@@ -162,6 +157,11 @@ FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int na
     snprintf(message, sizeof message,
              "Fix %s (id %s): shape mesh '%s' is oriented inward; its triangles were flipped", kStyle, id, file_);
     error->warning(FLERR, message);
+  }
+  if (!gives_usable_mass(density_)) {
+    snprintf(message, sizeof message, "density %g gives the shape (volume %g) no finite positive mass and inertia",
+             density_, shape_.volume);
+    error->fix_error(FLERR, this, message);
   }
   inner_radius_ = inner_radius_of(shape_);
   fingerprint_ = fingerprint_of(shape_);
@@ -287,11 +287,30 @@ void FixParticletemplatePolyhedron::warn_initial_overlaps()
   error->warning(FLERR, message);
 }
 
+bool FixParticletemplatePolyhedron::gives_usable_mass(double density) const
+{
+  const double mass = density * shape_.volume;
+  bool usable = isfinite(mass) && mass > 0.0 && isfinite(1.0 / mass);
+  for (int k = 0; k < 3; k++) {
+    const double moment = density * shape_.principal_moments[k];
+    usable = usable && isfinite(moment) && moment > 0.0 && isfinite(1.0 / moment);
+  }
+  return usable;
+}
+
 // FixTemplateSphere has checked seed, atom_type, density and region; this
-// reads file and scale, the density value, and rejects anything unknown.
+// reads file and scale, the density value, and rejects anything unknown, or
+// given twice (FixTemplateSphere would take the last, and so would this).
 void FixParticletemplatePolyhedron::parse_own_keywords(int narg, char **arg)
 {
+  std::vector<std::string> seen;
   for (int i = 4; i < narg;) {
+    if (std::find(seen.begin(), seen.end(), arg[i]) != seen.end()) {
+      char message[256];
+      snprintf(message, sizeof message, "keyword '%s' given twice", arg[i]);
+      error->fix_error(FLERR, this, message);
+    }
+    seen.push_back(arg[i]);
     if (strcmp(arg[i], "atom_type") == 0 || strcmp(arg[i], "region") == 0 || strcmp(arg[i], "relative") == 0 ||
         strcmp(arg[i], "volume_limit") == 0 || strcmp(arg[i], "additional_group") == 0) {
       i += 2;

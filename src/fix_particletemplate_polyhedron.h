@@ -27,6 +27,9 @@ class FixParticletemplatePolyhedron : public FixTemplateSphere {
   void setup(int);
 
   const poly_shape &shape() const { return shape_; }
+  // Whether `density` gives this shape a finite positive mass and principal moments with finite inverses (the
+  // integrator divides by them).
+  bool gives_usable_mass(double density) const;
   int shape_index() const { return shape_index_; }
   int particle_type() const { return atom_type; }
   double density() const { return density_; }

@@ -22,6 +22,7 @@
 #include "pair_polyhedral_volumetric.h"
 #include "pair_polyhedral_volumetric_gpu.h"
 #include "poly_cylinder.h"
+#include "polyhedral_input.h"
 #include "poly_halfspace.h"
 
 using namespace LAMMPS_NS;
@@ -37,7 +38,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
       force_summed(false), recording(false), records_timestep(-1)
 {
   if (strcmp(atom->atom_style, "polyhedron") != 0) error->all(FLERR, "Fix wall/polyhedral requires atom_style polyhedron");
-  bool have_plane = false;
+  bool have_plane = false, mesh_only_keyword = false, sagitta_given = false;
   int iarg = 3;
   while (iarg < narg) {
     const char *key = arg[iarg];
@@ -68,8 +69,9 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
       }
       iarg += 2;
     } else if (strcmp(key, "thickness") == 0 && iarg + 1 < narg) {
-      thickness = force->numeric(FLERR, arg[iarg + 1]);
+      thickness = polyhedral_finite_number(error, "Fix wall/polyhedral", "thickness", arg[iarg + 1]);
       if (!(thickness > 0.0)) error->all(FLERR, "Fix wall/polyhedral: thickness must be positive");
+      mesh_only_keyword = true;
       iarg += 2;
     } else if (strcmp(key, "closed_side") == 0 && iarg + 1 < narg) {
       // Where the particles are against a closed surface: decided per particle (auto), or fixed.
@@ -83,13 +85,18 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
                  "Fix wall/polyhedral: invalid value '%s' for 'closed_side' (auto, inside or outside)", value);
         error->all(FLERR, message);
       }
+      mesh_only_keyword = true;
       iarg += 2;
     } else if (strcmp(key, "sagitta") == 0 && iarg + 1 < narg) {
-      sagitta = force->numeric(FLERR, arg[iarg + 1]);
+      sagitta = polyhedral_finite_number(error, "Fix wall/polyhedral", "sagitta", arg[iarg + 1]);
+      sagitta_given = true;
       if (!(sagitta > 0.0 && sagitta < 1.0))
         error->all(FLERR, "Fix wall/polyhedral: sagitta must be between 0 and 1 (a fraction of the bounding radius)");
       iarg += 2;
     } else if (strcmp(key, "primitive") == 0) {
+      // One wall a fix, as fix wall/gran: a second would replace the first, or (a plane after a cylinder) not.
+      if (have_plane)
+        error->all(FLERR, "Fix wall/polyhedral: one 'primitive' a fix (use a fix for each primitive wall)");
       if (iarg + 3 >= narg || strcmp(arg[iarg + 1], "type") != 0)
         error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T xplane|yplane|zplane POS' or "
                           "'primitive type T zcylinder R CX CY'");
@@ -98,9 +105,9 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
       if (strcmp(style, "zcylinder") == 0) {
         if (iarg + 6 >= narg) error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T zcylinder R CX CY'");
         cylinder = true;
-        cylinder_radius = force->numeric(FLERR, arg[iarg + 4]);
-        cylinder_axis[0] = force->numeric(FLERR, arg[iarg + 5]);
-        cylinder_axis[1] = force->numeric(FLERR, arg[iarg + 6]);
+        cylinder_radius = polyhedral_finite_number(error, "Fix wall/polyhedral", "zcylinder R", arg[iarg + 4]);
+        cylinder_axis[0] = polyhedral_finite_number(error, "Fix wall/polyhedral", "zcylinder CX", arg[iarg + 5]);
+        cylinder_axis[1] = polyhedral_finite_number(error, "Fix wall/polyhedral", "zcylinder CY", arg[iarg + 6]);
         if (!(cylinder_radius > 0.0)) error->all(FLERR, "Fix wall/polyhedral: zcylinder radius R must be positive");
         have_plane = true;
         iarg += 7;
@@ -115,7 +122,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
         error->all(FLERR, message);
       }
       if (iarg + 4 >= narg) error->all(FLERR, "Fix wall/polyhedral: expected 'primitive type T xplane|yplane|zplane POS'");
-      position = force->numeric(FLERR, arg[iarg + 4]);
+      position = polyhedral_finite_number(error, "Fix wall/polyhedral", style, arg[iarg + 4]);
       have_plane = true;
       iarg += 5;
     } else if (strcmp(key, "mesh") == 0) {
@@ -134,6 +141,11 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     error->all(FLERR, "Fix wall/polyhedral: no wall given ('primitive type T zplane POS' or 'mesh n_meshes 1 meshes ID')");
   if (have_plane && (wall_type < 1 || wall_type > atom->ntypes))
     error->all(FLERR, "Fix wall/polyhedral: wall type out of range");
+  if (have_plane && mesh_only_keyword)
+    error->all(FLERR, "Fix wall/polyhedral: 'thickness' and 'closed_side' are for mesh walls (a primitive wall is "
+                      "a solid half-space or cylinder)");
+  if (sagitta_given && !cylinder)
+    error->all(FLERR, "Fix wall/polyhedral: 'sagitta' is for 'primitive ... zcylinder' walls");
 
   vector_flag = 1;
   size_vector = 10;
@@ -181,6 +193,12 @@ int FixWallPolyhedral::parse_mesh(int iarg, int narg, char **arg)
                mesh->atomTypeWall(), atom->ntypes);
       error->all(FLERR, message);
     }
+    // The same mesh twice would push twice: a doubled wall force.
+    for (size_t m = 0; m < mesh_ids.size(); m++)
+      if (mesh_ids[m] == mesh_id) {
+        snprintf(message, sizeof message, "Fix wall/polyhedral: mesh '%s' is listed twice", mesh_id);
+        error->all(FLERR, message);
+      }
     mesh_ids.push_back(mesh_id);
     meshes.push_back(mesh);
   }

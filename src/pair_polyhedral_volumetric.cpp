@@ -81,6 +81,12 @@ void PairPolyhedralVolumetric::settings(int narg, char **arg)
       error->all(FLERR, message);
     }
     const char *key = arg[iarg], *value = arg[iarg + 1];
+    for (int earlier = 0; earlier < iarg; earlier += 2)
+      if (strcmp(arg[earlier], key) == 0) {
+        char message[256];
+        snprintf(message, sizeof message, "Pair polyhedral/volumetric: keyword '%s' given twice", key);
+        error->all(FLERR, message);
+      }
     bool ok = true;
     if (strcmp(key, "cohesion") == 0) {
       cohesion = cohesion_keyword(lmp, "Pair polyhedral/volumetric", value);
@@ -332,20 +338,23 @@ void PairPolyhedralVolumetric::material_table(LAMMPS *lmp, const char *caller, b
   static std::map<double, double> beta_of_restitution;
   for (int i = 1; i <= n; i++) {
     double youngs_i = youngs->compute_vector(i - 1), poisson_i = poisson->compute_vector(i - 1);
-    if (!(youngs_i > 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: youngsModulus must be > 0");
+    if (!(youngs_i > 0.0 && isfinite(youngs_i)))
+      error->all(FLERR, "Pair polyhedral/volumetric: youngsModulus must be a finite number > 0");
     if (!(poisson_i >= 0.0 && poisson_i < 0.5)) error->all(FLERR, "Pair polyhedral/volumetric: poissonsRatio must be in [0, 0.5)");
     for (int j = 1; j <= n; j++) {
       double youngs_j = youngs->compute_vector(j - 1), poisson_j = poisson->compute_vector(j - 1);
       double e = restitution ? restitution->compute_array(i - 1, j - 1) : 1.0;
       double mu = friction ? friction->compute_array(i - 1, j - 1) : 0.0;
       if (!(e > 0.0 && e <= 1.0)) error->all(FLERR, "Pair polyhedral/volumetric: coefficientRestitution must be in (0, 1]");
-      if (!(mu >= 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: coefficientFriction must be >= 0");
+      if (!(mu >= 0.0 && isfinite(mu)))
+        error->all(FLERR, "Pair polyhedral/volumetric: coefficientFriction must be a finite number >= 0");
       if (!beta_of_restitution.count(e)) beta_of_restitution[e] = poly_damping_beta_for_restitution(e);
       poly_material_pair_make(youngs_i, poisson_i, youngs_j, poisson_j, beta_of_restitution[e], mu,
                               &table[i * (n + 1) + j]);
       if (cohesion_density) {
         double k = cohesion_density->compute_array(i - 1, j - 1);
-        if (!(k >= 0.0)) error->all(FLERR, "Pair polyhedral/volumetric: cohesionEnergyDensity must be >= 0");
+        if (!(k >= 0.0 && isfinite(k)))
+          error->all(FLERR, "Pair polyhedral/volumetric: cohesionEnergyDensity must be a finite number >= 0");
         table[i * (n + 1) + j].cohesion = k;
         check_cohesion_depth(lmp, caller, i, j, k, table[i * (n + 1) + j].youngs_effective);
       }

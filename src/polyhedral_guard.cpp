@@ -112,7 +112,41 @@ Compute *guarded_contact_atom(LAMMPS *lmp, int iarg, int narg, char **arg)
   return original_contact_atom(lmp, iarg, narg, arg);
 }
 
+PolyhedralCommandCreator original_set = NULL;
+
+bool polyhedral_atoms(LAMMPS *lmp)
+{
+  return lmp->atom->atom_style && strcmp(lmp->atom->atom_style, "polyhedron") == 0;
+}
+
+// LIGGGHTS' set: style ID, then keyword value... pairs; a keyword of ours is never a value (the name after
+// property/atom is skipped, being the user's).
+void guarded_set(LAMMPS *lmp, int narg, char **arg)
+{
+  for (int i = 2; polyhedral_atoms(lmp) && i < narg; i++) {
+    if (strcmp(arg[i], "property/atom") == 0) {
+      i++;
+      continue;
+    }
+    if (strcmp(arg[i], "diameter") == 0)
+      lmp->error->all(FLERR, "Set diameter: a polyhedron's size is its template's (the 'scale' keyword of fix "
+                             "particletemplate/polyhedron); with atom_style polyhedron it cannot be set per particle");
+    if (strcmp(arg[i], "mass") == 0)
+      lmp->error->all(FLERR, "Set mass: a polyhedron's mass is its template's volume times its density; with "
+                             "atom_style polyhedron use set ... density");
+  }
+  original_set(lmp, narg, arg);
+}
+
 }  // namespace
+
+void polyhedral_guard_commands(std::map<std::string, PolyhedralCommandCreator> &command_map)
+{
+  std::map<std::string, PolyhedralCommandCreator>::iterator it = command_map.find("set");
+  if (it == command_map.end() || it->second == &guarded_set) return;
+  original_set = it->second;
+  it->second = &guarded_set;
+}
 
 void polyhedral_guard_sphere_fixes(std::map<std::string, PolyhedralFixCreator> &fix_map)
 {

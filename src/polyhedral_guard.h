@@ -29,4 +29,11 @@ void polyhedral_guard_sphere_fixes(std::map<std::string, PolyhedralFixCreator> &
 // The same for LIGGGHTS' computes that assume spheres: compute contact/atom.
 void polyhedral_guard_sphere_computes(std::map<std::string, PolyhedralComputeCreator> &compute_map);
 
+typedef void (*PolyhedralCommandCreator)(LAMMPS_NS::LAMMPS *, int, char **);
+
+// And the `set` command: under atom_style polyhedron `set ... diameter` and `set ... mass` stop with an ERROR:
+// (a polyhedron's size is its template's scale, its mass its template's volume times its density; the next
+// run's set-up overwrote both without a word).
+void polyhedral_guard_commands(std::map<std::string, PolyhedralCommandCreator> &command_map);
+
 #endif

@@ -149,6 +149,7 @@ void register_styles(LAMMPS *lmp)
   // LIGGGHTS fixes and computes that assume spheres stop with an ERROR: under atom_style polyhedron.
   polyhedral_guard_sphere_fixes(fixes);
   polyhedral_guard_sphere_computes(computes);
+  polyhedral_guard_commands(commands);
 }
 
 }  // namespace

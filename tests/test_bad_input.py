@@ -358,3 +358,99 @@ def test_settled_bed_of_non_convex_particles_gives_no_overlap_warning(run_deck, 
     assert max(result.thermo("c_contacts")["c_contacts"]) > 5000
     warnings = [w for w in result.warning_lines() if "overlapping particle pairs" in w]
     assert not warnings, warnings
+
+
+MATERIALS_2 = ("fix m1 all property/global youngsModulus peratomtype {E} {E}\n"
+               "fix m2 all property/global poissonsRatio peratomtype 0.3 0.3\n"
+               "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5\n"
+               "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5\n")
+CUBE_PAIR = (template_line("${SHAPES}/cube.stl", " scale 0.1") + "pair_style polyhedral/volumetric\npair_coeff * *\n")
+MESH = "fix mp all mesh/surface file ${SHAPES}/cube.stl type 2\n"
+CONTACT_BOX = BOX.replace("region", "newton off\ncommunicate single vel yes\nregion")  # what the pair style needs
+WALL = "fix w all wall/polyhedral "
+
+
+def data_file(density="2500", quaternion="1 0 0 0", shape="1"):
+    """Two cubes in a data file of atom_style polyhedron (atom-ID type shape density x y z quatw quati quatj
+    quatk), the first with the columns given."""
+    return ("LAMMPS data file\n\n2 atoms\n2 atom types\n\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n\nAtoms\n\n"
+            f"1 1 {shape} {density} 0.5 0.5 0.5 {quaternion} 0 0 0\n2 1 1 2500 0.7 0.5 0.5 1 0 0 0 0 0 0\n")
+
+
+# Input each of which ran without a word before, with wrong results: a doubled wall force, a wall replaced or
+# ignored, a wall at infinity, NaN velocities, a truncated number, a setting that the next run overwrote, or the
+# last of two values taken.
+@pytest.mark.parametrize("line, expected", [
+    (MESH + WALL + "mesh n_meshes 2 meshes mp mp\n", "mesh 'mp' is listed twice"),
+    (MESH + WALL + "mesh n_meshes 1 meshes mp mesh n_meshes 1 meshes mp\n", "mesh 'mp' is listed twice"),
+    (WALL + "primitive type 2 zplane 0.0 primitive type 2 zplane 0.5\n", "one 'primitive' a fix"),
+    (WALL + "primitive type 2 zcylinder 0.3 0.5 0.5 primitive type 2 zplane 0.0\n", "one 'primitive' a fix"),
+    (WALL + "primitive type 2 zplane 1e400\n", "zplane needs a finite number, got '1e400'"),
+    (WALL + "primitive type 2 zcylinder 1e400 0.5 0.5\n", "zcylinder R needs a finite number, got '1e400'"),
+    (WALL + "primitive type 2 zcylinder 0.3 0.5 1e400\n", "zcylinder CY needs a finite number, got '1e400'"),
+    (MESH + WALL + "mesh n_meshes 1 meshes mp thickness 1e400\n", "thickness needs a finite number, got '1e400'"),
+    (WALL + "primitive type 2 zplane 0.0 thickness 0.01\n", "'thickness' and 'closed_side' are for mesh walls"),
+    (WALL + "closed_side inside primitive type 2 zplane 0.0\n", "'thickness' and 'closed_side' are for mesh walls"),
+    (WALL + "primitive type 2 zplane 0.0 sagitta 0.1\n", "'sagitta' is for 'primitive ... zcylinder' walls"),
+    (CONTACT_BOX + MATERIALS_2.format(E="1e400") + CUBE_PAIR + "create_polyhedron t 0.5 0.5 0.5\nrun 0\n",
+     "youngsModulus must be a finite number > 0"),
+    ("fix ct all check/timestep/polyhedral 1 inf 0.1\n", "the two fractions must be finite positive numbers"),
+    ("fix ct all check/timestep/polyhedral 4294967297 0.1 0.1\n", "nevery must be a positive integer"),
+    (template_line("${SHAPES}/cube.stl", " scale 0.1").replace("1000", "1e-320"),
+     "density 9.99989e-321 gives the shape (volume 0.001) no finite positive mass and inertia"),
+    (template_line("${SHAPES}/cube.stl", " scale 10").replace("1000", "1e306"),
+     "density 1e+306 gives the shape (volume 1000) no finite positive mass and inertia"),
+    (CONTACT_BOX + MATERIALS_2.format(E="1e7") + CUBE_PAIR +
+     "create_polyhedron t 0.5 0.5 0.5\nset atom 1 density 1e400\nrun 0\n",
+     "Particle 1: density inf gives shape 1"),
+    (CUBE_PAIR + "create_polyhedron t 0.5 0.5 0.5\nset atom 1 diameter 0.5\n", "Set diameter: a polyhedron's size"),
+    (CUBE_PAIR + "create_polyhedron t 0.5 0.5 0.5\nset atom 1 mass 5\n", "Set mass: a polyhedron's mass"),
+    (template_line("${SHAPES}/cube.stl", " file ${SHAPES}/rock_40.obj"), "keyword 'file' given twice"),
+    (template_line("${SHAPES}/cube.stl", " scale 0.1 scale 0.2"), "keyword 'scale' given twice"),
+    (template_line("${SHAPES}/cube.stl", " density constant 3000"), "keyword 'density' given twice"),
+    ("pair_style polyhedral/volumetric tangential history tangential off\n", "keyword 'tangential' given twice"),
+    (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 0.5 vel 1 0 0 vel 0 0 0\n",
+     "create_polyhedron: 'vel' given twice"),
+])
+def test_input_that_gave_wrong_results_silently_is_an_error(run_deck, line, expected):
+    result = run_deck(line if line.startswith("atom_style") else BOX + line)
+    assert result.returncode != 0
+    errors = result.error_lines()
+    assert len(errors) == 1, result.output
+    assert expected in errors[0], errors[0]
+
+
+@pytest.mark.parametrize("columns, expected", [
+    ({"density": "1e400"}, "Invalid density in Atoms section of data file (must be a finite number > 0)"),
+    ({"density": "2500x"}, "Invalid density in Atoms section of data file (must be a finite number > 0)"),
+    ({"shape": "1.7"}, "Invalid shape in Atoms section of data file (must be an integer >= 1)"),
+    ({"quaternion": "1e400 0 0 0"}, "Invalid quaternion in Atoms section of data file (four finite numbers)"),
+    ({"quaternion": "0 0 0 0"}, "Invalid quaternion in Atoms section of data file (all zero)"),
+])
+def test_bad_data_file_column_is_an_error(run_deck, tmp_path, columns, expected):
+    """read_data takes the package's columns whole and finite: atof read "2500x" as 2500 and "1.7" as shape 1,
+    and an infinite density or quaternion gave NaN velocities."""
+    (tmp_path / "bad.data").write_text(data_file(**columns))
+    deck = ("atom_style polyhedron\natom_modify map array sort 0 0\nboundary f f f\n"
+            f"read_data {tmp_path / 'bad.data'}\n" + template_line("${SHAPES}/cube.stl", " scale 0.1") + "run 0\n")
+    result = run_deck(deck)
+    assert result.returncode != 0
+    assert any(expected in line for line in result.error_lines()), result.output
+
+
+def test_huge_and_tiny_quaternions_keep_their_orientation(run_deck, tmp_path):
+    """A quaternion's size does not matter, even near the ends of the double range: 1e200 1e200 0 0 (whose
+    squares overflow) is a quarter turn about x, w = i = 0.7071, from a data file, and so is 1e-200 1e-200 0 0 (whose
+    squares vanish) from create_polyhedron; they came out as the identity, or an error that it was zero."""
+    (tmp_path / "big.data").write_text(data_file(quaternion="1e200 1e200 0 0"))
+    for source in (f"read_data {tmp_path / 'big.data'}\n" + template_line("${SHAPES}/cube.stl", " scale 0.1"),
+                   BOX + template_line("${SHAPES}/cube.stl", " scale 0.1") +
+                   "create_polyhedron t 0.5 0.5 0.5 quat 1e-200 1e-200 0 0\n"):
+        deck = ("atom_style polyhedron\natom_modify map array sort 0 0\nboundary f f f\n" if "read_data" in source
+                else "") + source + ("compute q all property/polyhedron quatw quati quatj quatk\n"
+                                     "dump d all custom 1 q.txt id c_q[1] c_q[2] c_q[3] c_q[4]\n"
+                                     'dump_modify d format "%d %.17g %.17g %.17g %.17g"\nrun 0\n')
+        result = run_deck(deck, workdir=tmp_path / ("data" if "read_data" in source else "create"))
+        assert result.returncode == 0, result.output
+        _, rows = decks.read_dump(result.workdir / "q.txt")
+        assert rows[1][1:] == pytest.approx([0.5 ** 0.5, 0.5 ** 0.5, 0.0, 0.0], abs=1e-15), rows
