@@ -128,10 +128,22 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     } else if (strcmp(key, "mesh") == 0) {
       iarg = parse_mesh(iarg, narg, arg);
     } else {
-      char message[256];
-      snprintf(message, sizeof message,
-               "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, rocking_damping, thickness, sagitta, "
-               "closed_side, primitive, mesh; LIGGGHTS' model, cohesion, rolling_friction, surface)", key);
+      // A keyword of ours at the end of the line has no value; LIGGGHTS' model keywords go before the wall.
+      static const char *const kValued[] = {"tangential", "damping", "rocking_damping", "thickness", "sagitta",
+                                            "closed_side", "cohesion"};
+      bool valued = false;
+      for (size_t k = 0; k < sizeof kValued / sizeof kValued[0]; k++) valued |= strcmp(key, kValued[k]) == 0;
+      char message[320];
+      if (valued && iarg + 1 >= narg)
+        snprintf(message, sizeof message, "Fix wall/polyhedral: keyword '%s' needs a value", key);
+      else if (have_plane || !meshes.empty())
+        snprintf(message, sizeof message,
+                 "Fix wall/polyhedral: unknown keyword '%s' after the wall (LIGGGHTS' model, rolling_friction and "
+                 "surface keywords go before 'primitive' or 'mesh')", key);
+      else
+        snprintf(message, sizeof message,
+                 "Fix wall/polyhedral: unknown keyword '%s' (tangential, damping, rocking_damping, thickness, "
+                 "sagitta, closed_side, primitive, mesh; LIGGGHTS' model, cohesion, rolling_friction, surface)", key);
       error->all(FLERR, message);
     }
   }

@@ -78,6 +78,9 @@ def test_inward_mesh_is_flipped_with_a_warning(run_deck):
     ("dump d all polyhedron/vtk 10 no_star.vtp\n", "needs a '*'"),
     (template_line("${SHAPES}/cube.stl") + template_line("${SHAPES}/rock_70.obj"), "cannot be redefined"),
     (template_line("${SHAPES}/cube.stl") + "create_polyhedron t 0.5 0.5 1.0\n", "outside the simulation box"),
+    ("fix w all wall/polyhedral primitive type 2 zplane 0.0 tangential\n", "keyword 'tangential' needs a value"),
+    ("fix w all wall/polyhedral primitive type 2 zplane 0.0 model hertz\n",
+     "unknown keyword 'model' after the wall (LIGGGHTS' model, rolling_friction and surface keywords go before"),
 ])
 def test_bad_command_is_an_error(run_deck, line, expected):
     result = run_deck(BOX + line)
