@@ -35,7 +35,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
       sagitta(1e-6), thickness(0.0), shell_thickness(0.0), closed_particles(0),
       have_workspace(false), gpu_precision(-1), gpu_min_pieces(0), tangential(-1), damping(-1), rocking(-1), cohesion(-1), history_id(NULL), history(NULL), pair(NULL),
-      force_summed(false), recording(false), records_timestep(-1)
+      force_summed(false), recording(false), records_timestep(-1), warned_slots(false)
 {
   if (strcmp(atom->atom_style, "polyhedron") != 0) error->all(FLERR, "Fix wall/polyhedral requires atom_style polyhedron");
   bool have_plane = false, mesh_only_keyword = false, sagitta_given = false;
@@ -228,18 +228,30 @@ FixWallPolyhedral::~FixWallPolyhedral()
   free_wall_views();
 }
 
-// The per-atom tangential springs (one per wall), migrating and restarting with the atoms;
-// for meshes, LIGGGHTS' triangle-particle neighbour lists (the ones fix wall/gran uses).
+// Mesh m's contact slots in a particle's history: kMeshContactSlots of kMeshSlotSize each per mesh.
+int FixWallPolyhedral::mesh_history_offset(int m) const
+{
+  return m * kMeshContactSlots * kMeshSlotSize;
+}
+
+// The per-atom tangential springs (a primitive's one; a mesh's contact slots), migrating and restarting with the
+// atoms; for meshes, LIGGGHTS' triangle-particle neighbour lists (the ones fix wall/gran uses).
 void FixWallPolyhedral::post_create()
 {
-  int walls = meshes.empty() ? 1 : (int)meshes.size();
+  const int size = meshes.empty() ? POLY_HISTORY_SIZE : mesh_history_offset((int)meshes.size());
   if (modify->find_fix(history_id) < 0) {
     std::vector<const char *> args;
-    const char *head[] = {history_id, "all", "property/atom", history_id, walls * POLY_HISTORY_SIZE > 1 ? "vector" : "scalar",
+    const char *head[] = {history_id, "all", "property/atom", history_id, size > 1 ? "vector" : "scalar",
                           "yes", "no", "no"};
     args.assign(head, head + 8);
-    for (int d = 0; d < walls * POLY_HISTORY_SIZE; d++) args.push_back("0.");
+    for (int d = 0; d < size; d++) args.push_back("0.");
+    // LIGGGHTS' fix property/atom asks whether more than 20 values are meant (a mesh's contact slots are 32): they
+    // are, so its screen and log are away while it is made.
+    FILE *screen_kept = screen, *logfile_kept = logfile;
+    screen = logfile = NULL;
     modify->add_fix((int)args.size(), const_cast<char **>(&args[0]));
+    screen = screen_kept;
+    logfile = logfile_kept;
   }
   history = static_cast<FixPropertyAtom *>(modify->fix[modify->find_fix(history_id)]);
   for (size_t m = 0; m < meshes.size(); m++) meshes[m]->createWallNeighList(igroup);

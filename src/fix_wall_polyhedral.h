@@ -52,6 +52,9 @@ class FixWallPolyhedral : public Fix {
   // of the overlap as LIGGGHTS numbers them (-1 for a primitive), force on the particle x y z, contact point x y z,
   // overlap volume).
   enum { kRecordColumns = 10 };
+  // A particle touches each surface of a mesh it meets with a contact of its own (apply_mesh): at most
+  // kMeshContactSlots at once keep a tangential spring, each slot its history and the contact's normal.
+  enum { kMeshContactSlots = 4, kMeshSlotSize = POLY_HISTORY_SIZE + 3 };
   void record_contacts(bool on) { recording = on; }
   const std::vector<double> &recorded_contacts() const { return records; }
   bigint records_step() const { return records_timestep; }
@@ -138,7 +141,11 @@ class FixWallPolyhedral : public Fix {
   std::vector<double> nodes;   // of all pieces, world frame relative to their particle
   std::vector<poly_overlap_result> particle_pieces;  // one particle's pieces at a time
   std::vector<int> piece_first_node, piece_num_nodes;
-  std::vector<char> touching;  // per local particle, for the current mesh
+  std::vector<int> piece_plane;  // one particle's pieces: the surface of the mesh each is on (apply_mesh)
+  std::vector<double> plane_normals;  // one particle's pieces: their triangles' unit normals (3) and offsets (1)
+  int mesh_history_offset(int m) const;  // where mesh m's contact slots start in a particle's history
+  void apply_mesh_plane(int m, int i, size_t first, size_t last, int plane, double *slots, bool advance_history,
+                        unsigned &used_slots);
   int tangential, damping, rocking, cohesion;   // -1: as the pair style
   char *history_id;
   class FixPropertyAtom *history;
@@ -153,6 +160,7 @@ class FixWallPolyhedral : public Fix {
   bool force_summed;
   bool recording;
   bigint records_timestep;
+  bool warned_slots;
   std::vector<double> records;
   void record(int i, int mesh, int triangle, const double *force, const double *centroid, const double *shift,
               double volume);

@@ -346,72 +346,180 @@ static bool piece_order(const FixWallPolyhedral::MeshPiece &a, const FixWallPoly
   return a.triangle_id < b.triangle_id;
 }
 
-// One contact per particle and mesh from its pieces (poly_mesh_contact_combine).
+// Triangle j's plane from its current corners: unit normal (as the corners run) and offset, into plane[0..3].
+static void triangle_plane(TriMesh *mesh, int j, double *plane)
+{
+  double c[3][3], e1[3], e2[3];
+  for (int k = 0; k < 3; k++) mesh->node(j, k, c[k]);
+  for (int k = 0; k < 3; k++) e1[k] = c[1][k] - c[0][k], e2[k] = c[2][k] - c[0][k];
+  double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  const double length = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int k = 0; k < 3; k++) plane[k] = length > 0.0 ? n[k] / length : 0.0;
+  plane[3] = plane[0] * c[0][0] + plane[1] * c[0][1] + plane[2] * c[0][2];
+}
+
+// Triangles of a mesh whose planes meet at less than this (radians), directly or through others a particle
+// touches, are one surface to it: a flat face cut into triangles, a tessellated drum or cone (a cube's impact on
+// a drum of 64 to 2000 sides as on the zcylinder primitive). Across a sharper crease each side is a contact.
+static const double kCreaseAngle = 20.0 * M_PI / 180.0;
+
+static int surface_root(std::vector<int> &parent, int p)
+{
+  while (parent[p] != p) p = parent[p] = parent[parent[p]];
+  return p;
+}
+
+// One contact per particle and surface of the mesh that it touches (poly_mesh_contact_combine over that surface's
+// pieces, those within kCreaseAngle of each other), its depth the deepest of its nodes below their triangles:
+// a particle against a flat face gets one contact however the face is cut into triangles, and one in a corner or
+// a sharp crease one contact a face, as against separate walls. One contact of all its pieces had, in a corner,
+// the depth of the spots' spread along their mean normal (a 0.1 m cube 1e-4 deep in a floor and a wall: 0.07 deep,
+// 27 times the force); and the extent of its nodes along the normal grew with the normal's tilt times the contact's
+// width (a cube whose face ends at a crease or a mesh's border: its side strips tilted the normal by the depth over
+// the edge, tripling the depth).
 void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
 {
   collect_pieces(m);
   // Sorted by particle, then by global triangle: sums independent of the domain decomposition.
   std::sort(pieces.begin(), pieces.end(), piece_order);
   double **springs = history->array_atom;
-  const int nlocal = atom->nlocal, slot = POLY_HISTORY_SIZE * m;
-  touching.assign(nlocal, 0);
+  const int nlocal = atom->nlocal, base = mesh_history_offset(m);
+  TriMesh *mesh = meshes[m]->triMesh();
+  const double crease = cos(kCreaseAngle);
+  std::vector<unsigned> used(nlocal, 0u);  // per local particle, the contact slots of this step
+  std::vector<int> parent;
   for (size_t first = 0; first < pieces.size();) {
     size_t last = first;
     while (last + 1 < pieces.size() && pieces[last + 1].particle == pieces[first].particle) last++;
-    int i = pieces[first].particle;
-    particle_pieces.clear();
-    piece_first_node.clear();
-    piece_num_nodes.clear();
-    double velocity[3] = {0, 0, 0}, spin[3] = {0, 0, 0};
-    for (size_t p = first; p <= last; p++) {
-      const MeshPiece &piece = pieces[p];
-      particle_pieces.push_back(piece.geometry);
-      piece_first_node.push_back(piece.first_node);
-      piece_num_nodes.push_back(piece.num_nodes);
-      for (int k = 0; k < 3; k++) {
-        velocity[k] += piece.geometry.volume * piece.wall_velocity[k];
-        spin[k] += piece.geometry.volume * piece.wall_omega[k];
+    const int i = pieces[first].particle, count = (int)(last - first + 1);
+    // The pieces' surfaces: joined where their triangles' planes meet within the crease angle.
+    plane_normals.resize(4 * (size_t)count);
+    parent.resize(count);
+    for (int p = 0; p < count; p++) {
+      triangle_plane(mesh, pieces[first + p].triangle, &plane_normals[4 * p]);
+      parent[p] = p;
+    }
+    for (int p = 0; p < count; p++)
+      for (int q = p + 1; q < count; q++) {
+        const double *np = &plane_normals[4 * p], *nq = &plane_normals[4 * q];
+        if (fabs(np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2]) >= crease) {
+          const int rp = surface_root(parent, p), rq = surface_root(parent, q);  // the lower index the root
+          if (rp < rq) parent[rq] = rp;
+          else parent[rp] = rq;
+        }
       }
+    // Surfaces numbered in the order of their first piece (global triangle order).
+    piece_plane.assign(count, -1);
+    int surfaces = 0;
+    for (int p = 0; p < count; p++) {
+      const int root = surface_root(parent, p);
+      piece_plane[p] = root == p ? surfaces++ : piece_plane[root];
     }
-    poly_overlap_result contact;
-    poly_mesh_contact_combine(&particle_pieces[0], nodes.empty() ? NULL : &nodes[0], &piece_first_node[0],
-                              &piece_num_nodes[0], (int)particle_pieces.size(), &contact);
-    double volume = contact.volume;
-    for (int k = 0; k < 3; k++) {
-      velocity[k] /= volume;
-      spin[k] /= volume;
-    }
-    size_t begin = first;
+    for (int g = 0; g < surfaces; g++) apply_mesh_plane(m, i, first, last, g, springs[i] + base, advance_history, used[i]);
     first = last + 1;
-    if (!(volume > 1e-12 * atom->rmass[i] / atom->density[i]) || !(contact.depth > 0.0)) continue;
-    touching[i] = 1;
-    double force[3], shift[3];
-    FixMeshSurface *mesh = meshes[m];
-    apply_contact(i, mesh->atomTypeWall(), springs[i] + slot, advance_history, volume, contact.depth,
-                  contact.projected_area, contact.normal,
-                  contact.centroid, contact.second_moment, velocity, spin, false, force, shift);
-    if (recording) {
-      size_t largest = begin;
-      for (size_t p = begin; p <= last; p++)
-        if (pieces[p].geometry.volume > pieces[largest].geometry.volume) largest = p;
-      record(i, m + 1, pieces[largest].triangle_id, force, contact.centroid, shift, volume);
+  }
+  // Contact slots not used this step: their contacts ended (at set-up too, as a run begins where the last ended).
+  for (int i = 0; i < nlocal; i++)
+    if (atom->mask[i] & groupbit)
+      for (int k = 0; k < kMeshContactSlots; k++)
+        if (!((used[i] >> k) & 1u))
+          for (int d = 0; d < kMeshSlotSize; d++) springs[i][base + kMeshSlotSize * k + d] = 0.0;
+}
+
+// Particle i's contact with surface `plane` of mesh m (its pieces among pieces[first..last]), with the tangential
+// spring of its slot among `slots`; `used_slots` gets it.
+void FixWallPolyhedral::apply_mesh_plane(int m, int i, size_t first, size_t last, int plane, double *slots,
+                                         bool advance_history, unsigned &used_slots)
+{
+  particle_pieces.clear();
+  piece_first_node.clear();
+  piece_num_nodes.clear();
+  double velocity[3] = {0, 0, 0}, spin[3] = {0, 0, 0};
+  size_t largest = last + 1;
+  for (size_t p = first; p <= last; p++) {
+    if (piece_plane[p - first] != plane) continue;
+    const MeshPiece &piece = pieces[p];
+    particle_pieces.push_back(piece.geometry);
+    piece_first_node.push_back(piece.first_node);
+    piece_num_nodes.push_back(piece.num_nodes);
+    for (int k = 0; k < 3; k++) {
+      velocity[k] += piece.geometry.volume * piece.wall_velocity[k];
+      spin[k] += piece.geometry.volume * piece.wall_omega[k];
     }
-    if (!advance_history) continue;
-    // Each triangle carries its share of the force, by volume, at its piece's centroid moved by the centre of
-    // pressure's shift (so the torque on the mesh sums to the whole force at the contact's centre of pressure,
-    // as on the particle); LIGGGHTS' stress module turns the sign.
-    for (size_t p = begin; p <= last; p++) {
-      MeshPiece &piece = pieces[p];
-      double share = piece.geometry.volume / volume, on_particle[3], arm[3];
-      for (int k = 0; k < 3; k++) {
-        on_particle[k] = share * force[k];
-        arm[k] = piece.geometry.centroid[k] + shift[k] - atom->x[i][k];
-      }
-      mesh->add_particle_contribution(i, on_particle, arm, piece.triangle, piece.wall_velocity);
+    if (largest > last || piece.geometry.volume > pieces[largest].geometry.volume) largest = p;
+  }
+  poly_overlap_result contact;
+  poly_mesh_contact_combine(&particle_pieces[0], nodes.empty() ? NULL : &nodes[0], &piece_first_node[0],
+                            &piece_num_nodes[0], (int)particle_pieces.size(), &contact);
+  // The depth: the deepest node below its own triangle's plane (nodes are relative to the particle).
+  double deepest = 0.0;
+  bool all_kept = true;
+  const double *centre = atom->x[i];
+  for (size_t p = first; p <= last && all_kept; p++) {
+    if (piece_plane[p - first] != plane) continue;
+    const MeshPiece &piece = pieces[p];
+    if (piece.num_nodes < 0) {
+      all_kept = false;
+      continue;
+    }
+    const double *n = &plane_normals[4 * (p - first)];
+    const double level = n[0] * centre[0] + n[1] * centre[1] + n[2] * centre[2] - n[3];
+    for (int q = 0; q < piece.num_nodes; q++) {
+      const double *x = &nodes[3 * (size_t)(piece.first_node + q)];
+      deepest = fmax(deepest, fabs(level + n[0] * x[0] + n[1] * x[1] + n[2] * x[2]));
     }
   }
-  // Particles not touching this mesh lose their spring.
-  for (int i = 0; i < nlocal; i++)
-    if (!touching[i] && (atom->mask[i] & groupbit))
-      for (int d = 0; d < POLY_HISTORY_SIZE; d++) springs[i][slot + d] = 0.0;
+  if (all_kept) contact.depth = deepest;
+  const double volume = contact.volume;
+  if (!(volume > 1e-12 * atom->rmass[i] / atom->density[i]) || !(contact.depth > 0.0)) return;
+  for (int k = 0; k < 3; k++) {
+    velocity[k] /= volume;
+    spin[k] /= volume;
+  }
+  // The slot: the unused one whose contact normal of the step before is nearest this contact's (within 60
+  // degrees: an edge contact's normal swings as it rocks), else a free one.
+  const double *normal = contact.normal;
+  int slot = -1, free_slot = -1;
+  double best = 0.5;
+  for (int k = 0; k < kMeshContactSlots; k++) {
+    if ((used_slots >> k) & 1u) continue;
+    const double *stored = slots + kMeshSlotSize * k + POLY_HISTORY_SIZE;
+    const double cosine = stored[0] * normal[0] + stored[1] * normal[1] + stored[2] * normal[2];
+    if (cosine > best) best = cosine, slot = k;
+    if (free_slot < 0 && stored[0] == 0.0 && stored[1] == 0.0 && stored[2] == 0.0) free_slot = k;
+  }
+  if (slot < 0) slot = free_slot;
+  double scratch[kMeshSlotSize] = {0.0};
+  double *spring = scratch;
+  if (slot >= 0) {
+    spring = slots + kMeshSlotSize * slot;
+    used_slots |= 1u << slot;
+    for (int k = 0; k < 3; k++) spring[POLY_HISTORY_SIZE + k] = normal[k];
+  } else if (!warned_slots) {
+    warned_slots = true;
+    char message[256];
+    snprintf(message, sizeof message, "Fix wall/polyhedral %s: a particle touches more than %d planes of mesh '%s' at "
+             "once; the contacts past them have no tangential spring", id, (int)kMeshContactSlots,
+             mesh_ids[m].c_str());
+    error->warning(FLERR, message);
+  }
+  double force[3], shift[3];
+  FixMeshSurface *surface = meshes[m];
+  apply_contact(i, surface->atomTypeWall(), spring, advance_history, volume, contact.depth, contact.projected_area,
+                contact.normal, contact.centroid, contact.second_moment, velocity, spin, false, force, shift);
+  if (recording) record(i, m + 1, pieces[largest].triangle_id, force, contact.centroid, shift, volume);
+  if (!advance_history) return;
+  // Each triangle carries its share of the force, by volume, at its piece's centroid moved by the centre of
+  // pressure's shift (so the torque on the mesh sums to the whole force at the contact's centre of pressure,
+  // as on the particle); LIGGGHTS' stress module turns the sign.
+  for (size_t p = first; p <= last; p++) {
+    if (piece_plane[p - first] != plane) continue;
+    MeshPiece &piece = pieces[p];
+    double share = piece.geometry.volume / volume, on_particle[3], arm[3];
+    for (int k = 0; k < 3; k++) {
+      on_particle[k] = share * force[k];
+      arm[k] = piece.geometry.centroid[k] + shift[k] - atom->x[i][k];
+    }
+    surface->add_particle_contribution(i, on_particle, arm, piece.triangle, piece.wall_velocity);
+  }
 }

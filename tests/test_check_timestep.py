@@ -103,7 +103,7 @@ def test_warns_as_liggghts_does(run_deck, tmp_path):
 @pytest.mark.parametrize("check,expected", [
     ("fix ts all check/timestep/polyhedral 1 0.1\n", "expected 'nevery fraction_rayleigh fraction_hertz"),
     ("fix ts all check/timestep/polyhedral 0 0.1 0.1\n", "nevery must be a positive integer"),
-    ("fix ts all check/timestep/polyhedral 1 0.1 x\n", "the two fractions must be positive numbers"),
+    ("fix ts all check/timestep/polyhedral 1 0.1 x\n", "the two fractions must be finite positive numbers"),
     ("fix ts all check/timestep/polyhedral 1 0.1 0.1 warn maybe\n", "the only one is 'warn yes|no'"),
     ("fix ts all check/timestep/gran 1 0.1 0.1\n", "check/timestep/polyhedral")])
 def test_bad_input_is_a_clear_error(run_deck, tmp_path, check, expected):

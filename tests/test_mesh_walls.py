@@ -15,7 +15,7 @@ import pytest
 
 import decks
 import meshes
-from test_walls import (DENSITY, EDGE, G, check_crosses_ranks, check_stick_or_slide, check_wall_impact, restart_on_a_wall,
+from test_walls import (DENSITY, EDGE, FRICTION, G, check_crosses_ranks, check_stick_or_slide, check_wall_impact, restart_on_a_wall,
                         scene, static_depth)
 
 MASS = DENSITY * EDGE ** 3
@@ -53,6 +53,86 @@ def test_cube_rests_on_a_mesh_floor_as_on_a_plane(run_deck, tmp_path, cells):
     assert abs(-force.mean() / (MASS * G) - 1) < 0.01, force.mean()
     assert abs(depth.mean() / static_depth(MASS) - 1) < 0.01, depth.mean()
     assert abs(depth.mean() / results["plane"][1].mean() - 1) < 1e-6
+
+
+def corner_faces(size=0.1):
+    """The corner of a box at the origin: floor z = 0, walls x = 0 and y = 0, squares of side `size`, two
+    triangles each, sharing the corner's edges; each face's triangles counter-clockwise seen from inside."""
+    o, a = 0.0, size
+    floor = [((o, o, o), (a, o, o), (a, a, o)), ((o, o, o), (a, a, o), (o, a, o))]
+    wall_x = [((o, o, o), (o, a, o), (o, a, a)), ((o, o, o), (o, a, a), (o, o, a))]
+    wall_y = [((o, o, o), (o, o, a), (a, o, a)), ((o, o, o), (a, o, a), (a, o, o))]
+    return floor, wall_x, wall_y
+
+
+def test_cube_in_a_corner_of_one_mesh_is_held_as_by_its_faces_as_separate_meshes(run_deck, tmp_path):
+    """The cube pushed by gravity along (-1, -1, -1) into the corner of a box, frictionless: the corner as one mesh
+    (floor and two walls, triangles sharing the corner's edges) and as three meshes; at rest each face carries
+    m g / sqrt 3 at the closed-form depth of a face, to 1 %, in both. One contact per particle and mesh
+    had the depth of its three spots' spread along their mean normal, a good part of the cube's edge for a
+    sub-micron overlap, so the corner held the cube far too stiffly (it sat too high) and pushed it out of any
+    deeper overlap violently. Now each plane of a mesh that a particle touches is a contact of its own, with its
+    own tangential spring."""
+    faces = corner_faces()
+    meshes.write_stl(tmp_path / "corner.stl", faces[0] + faces[1] + faces[2])
+    for name, triangles in zip(("floor", "wall_x", "wall_y"), faces):
+        meshes.write_stl(tmp_path / f"{name}.stl", triangles)
+    walls = {"one mesh": "fix corner all mesh/surface file ../corner.stl type 2\n"
+                         "fix floor all wall/polyhedral mesh n_meshes 1 meshes corner\n",
+             "three meshes": "".join(f"fix mesh_{n} all mesh/surface file ../{n}.stl type 2\n"
+                                     for n in ("floor", "wall_x", "wall_y")) +
+                             "fix floor all wall/polyhedral mesh n_meshes 3 meshes mesh_floor mesh_wall_x mesh_wall_y\n"}
+    pose = f"{EDGE / 2} {EDGE / 2} {EDGE / 2}"
+    runs = {}
+    for name, wall in walls.items():
+        # Frictionless, so that each face's normal force is the weight's component along its normal.
+        deck = scene(wall, pose, steps=20000, gravity="-1 -1 -1")
+        deck = deck.replace(f"coefficientFriction peratomtypepair 2 {FRICTION} {FRICTION} {FRICTION} {FRICTION}",
+                            "coefficientFriction peratomtypepair 2 0 0 0 0")
+        assert "peratomtypepair 2 0 0 0 0" in deck
+        result = run_deck(deck, workdir=tmp_path / name.replace(" ", "_"))
+        assert result.returncode == 0, result.output[-3000:]
+        assert "WARNING" not in result.output, result.output[-3000:]
+        runs[name] = result.thermo("Step", "v_x", "v_z", "f_floor[1]", "f_floor[3]", "f_floor[4]")
+    third = MASS * G / math.sqrt(3.0)
+    depth = static_depth(MASS / math.sqrt(3.0))
+    for name, table in runs.items():
+        settled = [i for i, step in enumerate(table["Step"]) if step >= 10000]
+        force_x = -np.array(table["f_floor[1]"])[settled].mean()
+        force_z = -np.array(table["f_floor[3]"])[settled].mean()
+        sunk = EDGE / 2 - np.array(table["v_z"])[settled].mean()
+        print(f"\n{name}: force / (m g / sqrt 3) - 1 = {force_x / third - 1:.2e} (x), {force_z / third - 1:.2e} (z); "
+              f"depth / closed form - 1 = {sunk / depth - 1:.2e}; contacts {table['f_floor[4]'][-1]}")
+        assert abs(force_x / third - 1) < 0.01 and abs(force_z / third - 1) < 0.01, (force_x, force_z, third)
+        assert abs(sunk / depth - 1) < 0.01, (sunk, depth)
+        assert table["f_floor[4]"][-1] == 3
+
+
+@pytest.mark.parametrize("segments", [64, 360])
+def test_cube_impact_on_a_tessellated_drum_as_on_the_cylinder_primitive(run_deck, tmp_path, segments):
+    """The cube (20 mm, face first) thrown at 1 m/s against the inside of a drum of radius 0.1 m: the drum as a
+    mesh of 64 or 360 sides (tests/meshes.py's drum, turned to the z axis) and as the zcylinder primitive give one
+    contact and the same rebound, to 1 %. The mesh's facets meet at 5.6 and 1 degree, within the 20 degrees that
+    make them one surface: one contact per plane of the mesh gave up to 6 contacts and half the rebound (gravity
+    along -y, so the cube's largest vy is its rebound)."""
+    radius = 0.1
+    drum = [tuple((x, z, y) for x, y, z in triangle) for triangle in meshes.drum(radius, 0.1, segments)]
+    meshes.write_stl(tmp_path / "drum.stl", drum)
+    pose = f"0 {-radius + EDGE / 2 + 0.002} 0 vel 0 -1 0"
+    rebound = {}
+    for name, wall in (("primitive", f"fix floor all wall/polyhedral primitive type 2 zcylinder {radius} 0 0\n"),
+                       ("mesh", mesh_wall("../drum.stl"))):
+        deck = scene(wall, pose, steps=6000, gravity="0 -1 0").replace(
+            "variable vx equal vx[1]\n", "variable vx equal vy[1]\n").replace("thermo 1000\n", "thermo 10\n")
+        result = run_deck(deck, workdir=tmp_path / name)
+        assert result.returncode == 0, result.output[-3000:]
+        table = result.thermo("Step", "v_vx", "f_floor[4]")
+        assert max(table["f_floor[4]"]) == 1, table["f_floor[4]"]
+        rebound[name] = max(table["v_vx"])  # as it leaves the wall (gravity then slows it by 1e-3 m/s a row)
+    print(f"\ndrum of {segments} sides: rebound {rebound['mesh']:.4f} m/s against the primitive's "
+          f"{rebound['primitive']:.4f}")
+    assert rebound["primitive"] > 0.3
+    assert abs(rebound["mesh"] / rebound["primitive"] - 1) < 0.01, rebound
 
 
 @pytest.mark.parametrize("angle", [20.0, 35.0])
