@@ -136,7 +136,8 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
       char message[320];
       if (valued && iarg + 1 >= narg)
         snprintf(message, sizeof message, "Fix wall/polyhedral: keyword '%s' needs a value", key);
-      else if (have_plane || !meshes.empty())
+      else if ((have_plane || !meshes.empty()) &&
+               (strcmp(key, "model") == 0 || strcmp(key, "rolling_friction") == 0 || strcmp(key, "surface") == 0))
         snprintf(message, sizeof message,
                  "Fix wall/polyhedral: unknown keyword '%s' after the wall (LIGGGHTS' model, rolling_friction and "
                  "surface keywords go before 'primitive' or 'mesh')", key);

@@ -53,8 +53,9 @@ class FixWallPolyhedral : public Fix {
   // overlap volume).
   enum { kRecordColumns = 10 };
   // A particle touches each surface of a mesh it meets with a contact of its own (apply_mesh): at most
-  // kMeshContactSlots at once keep a tangential spring, each slot its history and the contact's normal.
-  enum { kMeshContactSlots = 4, kMeshSlotSize = POLY_HISTORY_SIZE + 3 };
+  // kMeshContactSlots at once keep a tangential spring, each slot its history and a triangle of the surface
+  // (its global id + 1; 0: free).
+  enum { kMeshContactSlots = 4, kMeshSlotSize = POLY_HISTORY_SIZE + 1 };
   void record_contacts(bool on) { recording = on; }
   const std::vector<double> &recorded_contacts() const { return records; }
   bigint records_step() const { return records_timestep; }
@@ -144,8 +145,10 @@ class FixWallPolyhedral : public Fix {
   std::vector<int> piece_plane;  // one particle's pieces: the surface of the mesh each is on (apply_mesh)
   std::vector<double> plane_normals;  // one particle's pieces: their triangles' unit normals (3) and offsets (1)
   int mesh_history_offset(int m) const;  // where mesh m's contact slots start in a particle's history
-  void apply_mesh_plane(int m, int i, size_t first, size_t last, int plane, double *slots, bool advance_history,
-                        unsigned &used_slots);
+  bool apply_mesh_plane(int m, int i, size_t first, size_t last, int plane, double *slot, bool advance_history);
+  std::vector<unsigned> used_slots;   // per local particle, the contact slots of a mesh this step
+  std::vector<int> surface_parent;    // one particle's pieces: union-find of their surfaces
+  std::vector<int> surface_slot;      // one particle's surfaces: their contact slots
   int tangential, damping, rocking, cohesion;   // -1: as the pair style
   char *history_id;
   class FixPropertyAtom *history;

@@ -386,8 +386,10 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
   const int nlocal = atom->nlocal, base = mesh_history_offset(m);
   TriMesh *mesh = meshes[m]->triMesh();
   const double crease = cos(kCreaseAngle);
-  std::vector<unsigned> used(nlocal, 0u);  // per local particle, the contact slots of this step
-  std::vector<int> parent;
+  double **x = atom->x;
+  std::vector<unsigned> &used = used_slots;  // per local particle, the contact slots of this step
+  used.assign(nlocal, 0u);
+  std::vector<int> &parent = surface_parent;
   for (size_t first = 0; first < pieces.size();) {
     size_t last = first;
     while (last + 1 < pieces.size() && pieces[last + 1].particle == pieces[first].particle) last++;
@@ -396,13 +398,18 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
     plane_normals.resize(4 * (size_t)count);
     parent.resize(count);
     for (int p = 0; p < count; p++) {
-      triangle_plane(mesh, pieces[first + p].triangle, &plane_normals[4 * p]);
+      double *plane = &plane_normals[4 * p];
+      triangle_plane(mesh, pieces[first + p].triangle, plane);
+      // Turned to face the particle's centre, whichever way the triangle is wound: the two walls of a slot the
+      // particle is in face each other, and are two contacts.
+      if (plane[0] * x[i][0] + plane[1] * x[i][1] + plane[2] * x[i][2] < plane[3])
+        for (int k = 0; k < 4; k++) plane[k] = -plane[k];
       parent[p] = p;
     }
     for (int p = 0; p < count; p++)
       for (int q = p + 1; q < count; q++) {
         const double *np = &plane_normals[4 * p], *nq = &plane_normals[4 * q];
-        if (fabs(np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2]) >= crease) {
+        if (np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] >= crease) {
           const int rp = surface_root(parent, p), rq = surface_root(parent, q);  // the lower index the root
           if (rp < rq) parent[rq] = rp;
           else parent[rp] = rq;
@@ -415,7 +422,31 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
       const int root = surface_root(parent, p);
       piece_plane[p] = root == p ? surfaces++ : piece_plane[root];
     }
-    for (int g = 0; g < surfaces; g++) apply_mesh_plane(m, i, first, last, g, springs[i] + base, advance_history, used[i]);
+    // Each surface keeps the slot that holds one of its triangles (its largest piece's at the step before: a
+    // particle moves less than a triangle a step); a new one takes a free slot. By triangle, not by normal: on a
+    // convex crease both contacts have the particle's face's normal, and their springs swapped.
+    double *slots = springs[i] + base;
+    surface_slot.assign(surfaces, -1);
+    for (int k = 0; k < kMeshContactSlots; k++) {
+      const double stored = slots[kMeshSlotSize * k + POLY_HISTORY_SIZE];
+      for (int p = 0; p < count && stored > 0.0; p++)
+        if (pieces[first + p].triangle_id + 1 == (int)stored && surface_slot[piece_plane[p]] < 0) {
+          surface_slot[piece_plane[p]] = k;
+          used[i] |= 1u << k;
+          break;
+        }
+    }
+    for (int g = 0; g < surfaces; g++) {
+      for (int k = 0; k < kMeshContactSlots && surface_slot[g] < 0; k++)
+        if (!((used[i] >> k) & 1u) && !(slots[kMeshSlotSize * k + POLY_HISTORY_SIZE] > 0.0)) {
+          surface_slot[g] = k;
+          used[i] |= 1u << k;
+        }
+      const bool touches = apply_mesh_plane(m, i, first, last, g,
+                                            surface_slot[g] >= 0 ? slots + kMeshSlotSize * surface_slot[g] : NULL,
+                                            advance_history);
+      if (!touches && surface_slot[g] >= 0) used[i] &= ~(1u << surface_slot[g]);  // too little to touch: no spring
+    }
     first = last + 1;
   }
   // Contact slots not used this step: their contacts ended (at set-up too, as a run begins where the last ended).
@@ -427,9 +458,9 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
 }
 
 // Particle i's contact with surface `plane` of mesh m (its pieces among pieces[first..last]), with the tangential
-// spring of its slot among `slots`; `used_slots` gets it.
-void FixWallPolyhedral::apply_mesh_plane(int m, int i, size_t first, size_t last, int plane, double *slots,
-                                         bool advance_history, unsigned &used_slots)
+// spring of its slot `slot` (NULL: none free); false when its overlap is too small to be a contact.
+bool FixWallPolyhedral::apply_mesh_plane(int m, int i, size_t first, size_t last, int plane, double *slot,
+                                         bool advance_history)
 {
   particle_pieces.clear();
   piece_first_node.clear();
@@ -471,35 +502,21 @@ void FixWallPolyhedral::apply_mesh_plane(int m, int i, size_t first, size_t last
   }
   if (all_kept) contact.depth = deepest;
   const double volume = contact.volume;
-  if (!(volume > 1e-12 * atom->rmass[i] / atom->density[i]) || !(contact.depth > 0.0)) return;
+  if (!(volume > 1e-12 * atom->rmass[i] / atom->density[i]) || !(contact.depth > 0.0)) return false;
   for (int k = 0; k < 3; k++) {
     velocity[k] /= volume;
     spin[k] /= volume;
   }
-  // The slot: the unused one whose contact normal of the step before is nearest this contact's (within 60
-  // degrees: an edge contact's normal swings as it rocks), else a free one.
-  const double *normal = contact.normal;
-  int slot = -1, free_slot = -1;
-  double best = 0.5;
-  for (int k = 0; k < kMeshContactSlots; k++) {
-    if ((used_slots >> k) & 1u) continue;
-    const double *stored = slots + kMeshSlotSize * k + POLY_HISTORY_SIZE;
-    const double cosine = stored[0] * normal[0] + stored[1] * normal[1] + stored[2] * normal[2];
-    if (cosine > best) best = cosine, slot = k;
-    if (free_slot < 0 && stored[0] == 0.0 && stored[1] == 0.0 && stored[2] == 0.0) free_slot = k;
-  }
-  if (slot < 0) slot = free_slot;
   double scratch[kMeshSlotSize] = {0.0};
   double *spring = scratch;
-  if (slot >= 0) {
-    spring = slots + kMeshSlotSize * slot;
-    used_slots |= 1u << slot;
-    for (int k = 0; k < 3; k++) spring[POLY_HISTORY_SIZE + k] = normal[k];
+  if (slot) {
+    spring = slot;
+    spring[POLY_HISTORY_SIZE] = pieces[largest].triangle_id + 1;  // the surface's mark for the next step
   } else if (!warned_slots) {
     warned_slots = true;
     char message[256];
-    snprintf(message, sizeof message, "Fix wall/polyhedral %s: a particle touches more than %d planes of mesh '%s' at "
-             "once; the contacts past them have no tangential spring", id, (int)kMeshContactSlots,
+    snprintf(message, sizeof message, "Fix wall/polyhedral %s: a particle touches more than %d surfaces of mesh '%s' "
+             "at once; the contacts past them have no tangential spring", id, (int)kMeshContactSlots,
              mesh_ids[m].c_str());
     error->warning(FLERR, message);
   }
@@ -508,7 +525,7 @@ void FixWallPolyhedral::apply_mesh_plane(int m, int i, size_t first, size_t last
   apply_contact(i, surface->atomTypeWall(), spring, advance_history, volume, contact.depth, contact.projected_area,
                 contact.normal, contact.centroid, contact.second_moment, velocity, spin, false, force, shift);
   if (recording) record(i, m + 1, pieces[largest].triangle_id, force, contact.centroid, shift, volume);
-  if (!advance_history) return;
+  if (!advance_history) return true;
   // Each triangle carries its share of the force, by volume, at its piece's centroid moved by the centre of
   // pressure's shift (so the torque on the mesh sums to the whole force at the contact's centre of pressure,
   // as on the particle); LIGGGHTS' stress module turns the sign.
@@ -522,4 +539,5 @@ void FixWallPolyhedral::apply_mesh_plane(int m, int i, size_t first, size_t last
     }
     surface->add_particle_contribution(i, on_particle, arm, piece.triangle, piece.wall_velocity);
   }
+  return true;
 }

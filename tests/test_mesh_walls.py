@@ -135,6 +135,70 @@ def test_cube_impact_on_a_tessellated_drum_as_on_the_cylinder_primitive(run_deck
     assert abs(rebound["mesh"] / rebound["primitive"] - 1) < 0.01, rebound
 
 
+def test_cube_sliding_onto_a_convex_crease_of_one_mesh_as_onto_two_meshes(run_deck, tmp_path):
+    """The cube (20 mm, friction 0.5) slides at 0.5 m/s along a floor towards its edge, where a slope falls away at
+    30 degrees, and stops with its front over the crease: floor and slope as one mesh and as two meshes give the same
+    path, to 0.1 mm. On the crease the two contacts (floor and slope, 30 degrees apart) both have the normal of the
+    cube's face; their tangential springs, matched by that normal, swapped every few steps, and the one mesh's cube
+    was braked to a stop 3 mm short, tipped and rocked back."""
+    slope = math.tan(math.radians(30.0))
+    floor = [((-0.1, -0.05, 0), (0, -0.05, 0), (0, 0.05, 0)), ((-0.1, -0.05, 0), (0, 0.05, 0), (-0.1, 0.05, 0))]
+    ramp = [((0, -0.05, 0), (0.1, -0.05, -0.1 * slope), (0.1, 0.05, -0.1 * slope)),
+            ((0, -0.05, 0), (0.1, 0.05, -0.1 * slope), (0, 0.05, 0))]
+    meshes.write_stl(tmp_path / "crease.stl", floor + ramp)
+    meshes.write_stl(tmp_path / "floor.stl", floor)
+    meshes.write_stl(tmp_path / "ramp.stl", ramp)
+    walls = {"one mesh": mesh_wall("../crease.stl"),
+             "two meshes": "fix mesh_floor all mesh/surface file ../floor.stl type 2\n"
+                           "fix mesh_ramp all mesh/surface file ../ramp.stl type 2\n"
+                           "fix floor all wall/polyhedral mesh n_meshes 2 meshes mesh_floor mesh_ramp\n"}
+    paths = {}
+    for name, wall in walls.items():
+        deck = scene(wall, f"-0.03 0 {EDGE / 2} vel 0.5 0 0", steps=12000).replace("thermo 1000\n", "thermo 100\n")
+        result = run_deck(deck, workdir=tmp_path / name.replace(" ", "_"))
+        assert result.returncode == 0, result.output[-3000:]
+        paths[name] = result.thermo("Step", "v_x", "v_z")
+    one, two = paths["one mesh"], paths["two meshes"]
+    worst = max(abs(a - b) for a, b in zip(one["v_x"] + one["v_z"], two["v_x"] + two["v_z"]))
+    print(f"\ncrease: final x {one['v_x'][-1]:.6f} (one mesh) against {two['v_x'][-1]:.6f} (two meshes); "
+          f"largest difference {worst:.2e} m")
+    assert -0.01 < two["v_x"][-1] < 0.0, two["v_x"][-1]
+    assert worst < 1e-4, worst
+
+
+def test_cube_between_two_walls_of_one_mesh_as_between_two_meshes(run_deck, tmp_path):
+    """The cube held between two parallel walls 2e-5 and 1e-5 m into it, no gravity: the walls as one mesh (wound
+    either way) and as two meshes give two contacts and the same net force at the first step (its x component the
+    difference of the two faces' pushes), to 1e-9 N. Taken as parallel whichever way they face, they were one
+    surface: one contact of 1.97 N where the net force is 0.80."""
+    h = EDGE / 2
+
+    def wall_x(x, flip):
+        pair = [((x, -0.05, -0.05), (x, 0.05, -0.05), (x, 0.05, 0.05)), ((x, -0.05, -0.05), (x, 0.05, 0.05),
+                                                                          (x, -0.05, 0.05))]
+        return [tuple(reversed(t)) for t in pair] if flip else pair
+    left, right = wall_x(-(h - 2e-5), False), wall_x(h - 1e-5, True)
+    meshes.write_stl(tmp_path / "both.stl", left + right)
+    meshes.write_stl(tmp_path / "left.stl", left)
+    meshes.write_stl(tmp_path / "right.stl", right)
+    walls = {"one mesh": mesh_wall("../both.stl"),
+             "two meshes": "fix mesh_left all mesh/surface file ../left.stl type 2\n"
+                           "fix mesh_right all mesh/surface file ../right.stl type 2\n"
+                           "fix floor all wall/polyhedral mesh n_meshes 2 meshes mesh_left mesh_right\n"}
+    first = {}
+    for name, wall in walls.items():
+        deck = scene(wall, "0 0 0", steps=1).replace(f"fix gravity all gravity {G} vector 0 0 -1\n", "")
+        assert "gravity" not in deck
+        result = run_deck(deck, workdir=tmp_path / name.replace(" ", "_"))
+        assert result.returncode == 0, result.output[-3000:]
+        table = result.thermo("Step", "f_floor[1]", "f_floor[4]")
+        first[name] = (table["f_floor[1]"][0], table["f_floor[4]"][0])
+    print(f"\nslot: force on the walls {first['one mesh'][0]:.6g} N, {first['one mesh'][1]:g} contacts (one mesh); "
+          f"{first['two meshes'][0]:.6g} N, {first['two meshes'][1]:g} (two meshes)")
+    assert first["one mesh"][1] == first["two meshes"][1] == 2
+    assert abs(first["one mesh"][0] - first["two meshes"][0]) < 1e-9, first
+
+
 @pytest.mark.parametrize("angle", [20.0, 35.0])
 def test_cube_sticks_or_slides_on_a_mesh_floor(run_deck, tmp_path, angle):
     """tests/test_walls.py's tilted-plane test on a floor of 392 triangles (20 mm cells): gravity
