@@ -437,10 +437,12 @@ void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
         }
     }
     for (int g = 0; g < surfaces; g++) {
+      // A new contact: a slot no surface kept (free, or of a contact that ended), its spring from zero.
       for (int k = 0; k < kMeshContactSlots && surface_slot[g] < 0; k++)
-        if (!((used[i] >> k) & 1u) && !(slots[kMeshSlotSize * k + POLY_HISTORY_SIZE] > 0.0)) {
+        if (!((used[i] >> k) & 1u)) {
           surface_slot[g] = k;
           used[i] |= 1u << k;
+          for (int d = 0; d < kMeshSlotSize; d++) slots[kMeshSlotSize * k + d] = 0.0;
         }
       const bool touches = apply_mesh_plane(m, i, first, last, g,
                                             surface_slot[g] >= 0 ? slots + kMeshSlotSize * surface_slot[g] : NULL,
