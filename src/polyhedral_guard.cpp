@@ -73,10 +73,15 @@ bool adapts_diameter(int narg, char **arg)
   return false;
 }
 
+bool polyhedral_atoms(LAMMPS *lmp)
+{
+  return lmp->atom->atom_style && strcmp(lmp->atom->atom_style, "polyhedron") == 0;
+}
+
 template <int K> Fix *guarded_creator(LAMMPS *lmp, int narg, char **arg)
 {
   const Guard &guard = kGuards[K];
-  if (lmp->atom->atom_style && strcmp(lmp->atom->atom_style, "polyhedron") == 0) {
+  if (polyhedral_atoms(lmp)) {
     if (strcmp(guard.style, "adapt") == 0) {
       if (adapts_diameter(narg, arg)) lmp->error->all(FLERR, kAdaptDiameter);
     } else if (guard.message) {
@@ -106,18 +111,13 @@ PolyhedralComputeCreator original_contact_atom = NULL;
 
 Compute *guarded_contact_atom(LAMMPS *lmp, int iarg, int narg, char **arg)
 {
-  if (lmp->atom->atom_style && strcmp(lmp->atom->atom_style, "polyhedron") == 0)
+  if (polyhedral_atoms(lmp))
     lmp->error->all(FLERR, "Compute contact/atom counts bounding spheres within the skin of each other; with "
                            "atom_style polyhedron use compute contact/polyhedron (the polyhedra that overlap)");
   return original_contact_atom(lmp, iarg, narg, arg);
 }
 
 PolyhedralCommandCreator original_set = NULL;
-
-bool polyhedral_atoms(LAMMPS *lmp)
-{
-  return lmp->atom->atom_style && strcmp(lmp->atom->atom_style, "polyhedron") == 0;
-}
 
 // LIGGGHTS' set: style ID, then keyword value... pairs; a keyword of ours is never a value (the name after
 // property/atom is skipped, being the user's).

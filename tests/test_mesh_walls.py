@@ -55,6 +55,31 @@ def test_cube_rests_on_a_mesh_floor_as_on_a_plane(run_deck, tmp_path, cells):
     assert abs(depth.mean() / results["plane"][1].mean() - 1) < 1e-6
 
 
+def one_mesh_and_separate(tmp_path, name, parts):
+    """parts: {part: triangles}, written as one mesh (NAME.stl) and as a mesh each (PART.stl): the wall fix
+    (ID floor) on either, {"one mesh": lines, "separate meshes": lines}."""
+    meshes.write_stl(tmp_path / f"{name}.stl", [t for triangles in parts.values() for t in triangles])
+    for part, triangles in parts.items():
+        meshes.write_stl(tmp_path / f"{part}.stl", triangles)
+    ids = " ".join(f"mesh_{part}" for part in parts)
+    return {"one mesh": mesh_wall(f"../{name}.stl"),
+            "separate meshes": "".join(f"fix mesh_{part} all mesh/surface file ../{part}.stl type 2\n"
+                                       for part in parts) +
+                               f"fix floor all wall/polyhedral mesh n_meshes {len(parts)} meshes {ids}\n"}
+
+
+def run_walls(run_deck, tmp_path, walls, make_deck, *columns):
+    """Each of `walls` ({name: wall lines}) in the deck make_deck(wall), in a directory of its own: {name: the
+    thermo columns}; a run must end cleanly and without warnings."""
+    tables = {}
+    for name, wall in walls.items():
+        result = run_deck(make_deck(wall), workdir=tmp_path / name.replace(" ", "_"))
+        assert result.returncode == 0, result.output[-3000:]
+        assert "WARNING" not in result.output, result.output[-3000:]
+        tables[name] = result.thermo(*columns)
+    return tables
+
+
 def corner_faces(size=0.1):
     """The corner of a box at the origin: floor z = 0, walls x = 0 and y = 0, squares of side `size`, two
     triangles each, sharing the corner's edges; each face's triangles counter-clockwise seen from inside."""
@@ -73,27 +98,17 @@ def test_cube_in_a_corner_of_one_mesh_is_held_as_by_its_faces_as_separate_meshes
     sub-micron overlap, so the corner held the cube far too stiffly (it sat too high) and pushed it out of any
     deeper overlap violently. Now each plane of a mesh that a particle touches is a contact of its own, with its
     own tangential spring."""
-    faces = corner_faces()
-    meshes.write_stl(tmp_path / "corner.stl", faces[0] + faces[1] + faces[2])
-    for name, triangles in zip(("floor", "wall_x", "wall_y"), faces):
-        meshes.write_stl(tmp_path / f"{name}.stl", triangles)
-    walls = {"one mesh": "fix corner all mesh/surface file ../corner.stl type 2\n"
-                         "fix floor all wall/polyhedral mesh n_meshes 1 meshes corner\n",
-             "three meshes": "".join(f"fix mesh_{n} all mesh/surface file ../{n}.stl type 2\n"
-                                     for n in ("floor", "wall_x", "wall_y")) +
-                             "fix floor all wall/polyhedral mesh n_meshes 3 meshes mesh_floor mesh_wall_x mesh_wall_y\n"}
+    walls = one_mesh_and_separate(tmp_path, "corner", dict(zip(("floor", "wall_x", "wall_y"), corner_faces())))
     pose = f"{EDGE / 2} {EDGE / 2} {EDGE / 2}"
-    runs = {}
-    for name, wall in walls.items():
-        # Frictionless, so that each face's normal force is the weight's component along its normal.
+
+    def frictionless(wall):  # so that each face's normal force is the weight's component along its normal
         deck = scene(wall, pose, steps=20000, gravity="-1 -1 -1")
         deck = deck.replace(f"coefficientFriction peratomtypepair 2 {FRICTION} {FRICTION} {FRICTION} {FRICTION}",
                             "coefficientFriction peratomtypepair 2 0 0 0 0")
         assert "peratomtypepair 2 0 0 0 0" in deck
-        result = run_deck(deck, workdir=tmp_path / name.replace(" ", "_"))
-        assert result.returncode == 0, result.output[-3000:]
-        assert "WARNING" not in result.output, result.output[-3000:]
-        runs[name] = result.thermo("Step", "v_x", "v_z", "f_floor[1]", "f_floor[3]", "f_floor[4]")
+        return deck
+    runs = run_walls(run_deck, tmp_path, walls, frictionless, "Step", "v_x", "v_z", "f_floor[1]", "f_floor[3]",
+                     "f_floor[4]")
     third = MASS * G / math.sqrt(3.0)
     depth = static_depth(MASS / math.sqrt(3.0))
     for name, table in runs.items():
@@ -145,20 +160,11 @@ def test_cube_sliding_onto_a_convex_crease_of_one_mesh_as_onto_two_meshes(run_de
     floor = [((-0.1, -0.05, 0), (0, -0.05, 0), (0, 0.05, 0)), ((-0.1, -0.05, 0), (0, 0.05, 0), (-0.1, 0.05, 0))]
     ramp = [((0, -0.05, 0), (0.1, -0.05, -0.1 * slope), (0.1, 0.05, -0.1 * slope)),
             ((0, -0.05, 0), (0.1, 0.05, -0.1 * slope), (0, 0.05, 0))]
-    meshes.write_stl(tmp_path / "crease.stl", floor + ramp)
-    meshes.write_stl(tmp_path / "floor.stl", floor)
-    meshes.write_stl(tmp_path / "ramp.stl", ramp)
-    walls = {"one mesh": mesh_wall("../crease.stl"),
-             "two meshes": "fix mesh_floor all mesh/surface file ../floor.stl type 2\n"
-                           "fix mesh_ramp all mesh/surface file ../ramp.stl type 2\n"
-                           "fix floor all wall/polyhedral mesh n_meshes 2 meshes mesh_floor mesh_ramp\n"}
-    paths = {}
-    for name, wall in walls.items():
-        deck = scene(wall, f"-0.03 0 {EDGE / 2} vel 0.5 0 0", steps=12000).replace("thermo 1000\n", "thermo 100\n")
-        result = run_deck(deck, workdir=tmp_path / name.replace(" ", "_"))
-        assert result.returncode == 0, result.output[-3000:]
-        paths[name] = result.thermo("Step", "v_x", "v_z")
-    one, two = paths["one mesh"], paths["two meshes"]
+    walls = one_mesh_and_separate(tmp_path, "crease", {"floor": floor, "ramp": ramp})
+    paths = run_walls(run_deck, tmp_path, walls,
+                      lambda wall: scene(wall, f"-0.03 0 {EDGE / 2} vel 0.5 0 0", steps=12000).replace(
+                          "thermo 1000\n", "thermo 100\n"), "Step", "v_x", "v_z")
+    one, two = paths["one mesh"], paths["separate meshes"]
     worst = max(abs(a - b) for a, b in zip(one["v_x"] + one["v_z"], two["v_x"] + two["v_z"]))
     print(f"\ncrease: final x {one['v_x'][-1]:.6f} (one mesh) against {two['v_x'][-1]:.6f} (two meshes); "
           f"largest difference {worst:.2e} m")
@@ -178,25 +184,18 @@ def test_cube_between_two_walls_of_one_mesh_as_between_two_meshes(run_deck, tmp_
                                                                           (x, -0.05, 0.05))]
         return [tuple(reversed(t)) for t in pair] if flip else pair
     left, right = wall_x(-(h - 2e-5), False), wall_x(h - 1e-5, True)
-    meshes.write_stl(tmp_path / "both.stl", left + right)
-    meshes.write_stl(tmp_path / "left.stl", left)
-    meshes.write_stl(tmp_path / "right.stl", right)
-    walls = {"one mesh": mesh_wall("../both.stl"),
-             "two meshes": "fix mesh_left all mesh/surface file ../left.stl type 2\n"
-                           "fix mesh_right all mesh/surface file ../right.stl type 2\n"
-                           "fix floor all wall/polyhedral mesh n_meshes 2 meshes mesh_left mesh_right\n"}
-    first = {}
-    for name, wall in walls.items():
+    walls = one_mesh_and_separate(tmp_path, "both", {"left": left, "right": right})
+
+    def weightless(wall):
         deck = scene(wall, "0 0 0", steps=1).replace(f"fix gravity all gravity {G} vector 0 0 -1\n", "")
         assert "gravity" not in deck
-        result = run_deck(deck, workdir=tmp_path / name.replace(" ", "_"))
-        assert result.returncode == 0, result.output[-3000:]
-        table = result.thermo("Step", "f_floor[1]", "f_floor[4]")
-        first[name] = (table["f_floor[1]"][0], table["f_floor[4]"][0])
+        return deck
+    tables = run_walls(run_deck, tmp_path, walls, weightless, "Step", "f_floor[1]", "f_floor[4]")
+    first = {name: (table["f_floor[1]"][0], table["f_floor[4]"][0]) for name, table in tables.items()}
     print(f"\nslot: force on the walls {first['one mesh'][0]:.6g} N, {first['one mesh'][1]:g} contacts (one mesh); "
-          f"{first['two meshes'][0]:.6g} N, {first['two meshes'][1]:g} (two meshes)")
-    assert first["one mesh"][1] == first["two meshes"][1] == 2
-    assert abs(first["one mesh"][0] - first["two meshes"][0]) < 1e-9, first
+          f"{first['separate meshes'][0]:.6g} N, {first['separate meshes'][1]:g} (two meshes)")
+    assert first["one mesh"][1] == first["separate meshes"][1] == 2
+    assert abs(first["one mesh"][0] - first["separate meshes"][0]) < 1e-9, first
 
 
 @pytest.mark.parametrize("angle", [20.0, 35.0])
