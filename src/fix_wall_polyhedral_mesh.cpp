@@ -373,10 +373,10 @@ static int surface_root(std::vector<int> &parent, int p)
 // pieces, those within kCreaseAngle of each other), its depth the deepest of its nodes below their triangles:
 // a particle against a flat face gets one contact however the face is cut into triangles, and one in a corner or
 // a sharp crease one contact a face, as against separate walls. One contact of all its pieces had, in a corner,
-// the depth of the spots' spread along their mean normal (a 0.1 m cube 1e-4 deep in a floor and a wall: 0.07 deep,
-// 27 times the force); and the extent of its nodes along the normal grew with the normal's tilt times the contact's
-// width (a cube whose face ends at a crease or a mesh's border: its side strips tilted the normal by the depth over
-// the edge, tripling the depth).
+// the depth of the spots' spread along their mean normal (tests/test_mesh_walls.py's corner: a cube held 8300 times
+// too stiffly); and the extent of its nodes along the normal grew with the normal's tilt times the contact's width
+// (a cube whose face ends at a crease or a mesh's border: its side strips tilted the normal by the depth over the
+// edge, tripling the depth).
 void FixWallPolyhedral::apply_mesh(int m, bool advance_history)
 {
   collect_pieces(m);
