@@ -35,7 +35,7 @@ FixWallPolyhedral::FixWallPolyhedral(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), wall_type(0), axis(-1), position(0.0), cylinder(false), cylinder_radius(0.0),
       sagitta(1e-6), thickness(0.0), shell_thickness(0.0), closed_particles(0),
       have_workspace(false), gpu_precision(-1), gpu_min_pieces(0), tangential(-1), damping(-1), rocking(-1), cohesion(-1), history_id(NULL), history(NULL), pair(NULL),
-      force_summed(false), recording(false), records_timestep(-1), warned_slots(false)
+      force_summed(false), recording(false), records_timestep(-1)
 {
   if (strcmp(atom->atom_style, "polyhedron") != 0) error->all(FLERR, "Fix wall/polyhedral requires atom_style polyhedron");
   bool have_plane = false, mesh_only_keyword = false, sagitta_given = false;
@@ -496,6 +496,7 @@ void FixWallPolyhedral::setup(int)
   if (!meshes.empty()) compute_mesh_overlaps();
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, false);
   warn_initial_overlaps();
+  slots_warning.share(lmp);
 }
 
 // Particles created or inserted into a wall are pushed out violently; say so at set-up, as the templates do
@@ -526,6 +527,7 @@ void FixWallPolyhedral::post_force(int)
   if (meshes.empty()) apply_primitive(true);
   if (!meshes.empty()) compute_mesh_overlaps();
   for (size_t m = 0; m < meshes.size(); m++) apply_mesh((int)m, true);
+  if (PolyhedralRankWarning::due(lmp)) slots_warning.share(lmp);
 }
 
 void FixWallPolyhedral::record(int i, int mesh, int triangle, const double *force, const double *centroid,

@@ -30,6 +30,7 @@
 #include "poly_gpu.h"
 #include "poly_mesh_shell.h"
 #include "poly_overlap.h"
+#include "polyhedral_warning.h"
 
 namespace LAMMPS_NS {
 
@@ -163,7 +164,7 @@ class FixWallPolyhedral : public Fix {
   bool force_summed;
   bool recording;
   bigint records_timestep;
-  bool warned_slots;
+  PolyhedralRankWarning slots_warning;  // more contacts than slots (fix_wall_polyhedral_mesh.cpp)
   std::vector<double> records;
   void record(int i, int mesh, int triangle, const double *force, const double *centroid, const double *shift,
               double volume);

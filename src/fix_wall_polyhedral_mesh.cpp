@@ -514,13 +514,12 @@ bool FixWallPolyhedral::apply_mesh_plane(int m, int i, size_t first, size_t last
   if (slot) {
     spring = slot;
     spring[POLY_HISTORY_SIZE] = pieces[largest].triangle_id + 1;  // the surface's mark for the next step
-  } else if (!warned_slots) {
-    warned_slots = true;
+  } else if (!slots_warning.raised()) {
     char message[256];
     snprintf(message, sizeof message, "Fix wall/polyhedral %s: a particle touches more than %d surfaces of mesh '%s' "
              "at once; the contacts past them have no tangential spring", id, (int)kMeshContactSlots,
              mesh_ids[m].c_str());
-    error->warning(FLERR, message);
+    slots_warning.raise(message);
   }
   double force[3], shift[3];
   FixMeshSurface *surface = meshes[m];

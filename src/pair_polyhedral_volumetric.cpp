@@ -36,7 +36,7 @@ PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
 #else
       precision(POLY_PRECISION_DOUBLE),
 #endif
-      recording(false), records_timestep(-1), warned_inconsistent(false), warned_centroid(false), have_workspace(false), maxrad(NULL),
+      recording(false), records_timestep(-1), have_workspace(false), maxrad(NULL),
       fix_history(NULL), atom_ntypes(0)
 {
   degenerate.smoothed = degenerate.recomputed = degenerate.inconsistent = 0.0;
@@ -587,11 +587,9 @@ void PairPolyhedralVolumetric::start_apart(int slot, int i, int j, double gap)
 void PairPolyhedralVolumetric::count_degenerate(const poly_overlap_result &geometry)
 {
   poly_degenerate_count(&degenerate, &geometry);
-  if (geometry.num_inconsistent > 0 && !warned_inconsistent) {
-    warned_inconsistent = true;
-    error->warning(FLERR, "Pair polyhedral/volumetric: a contact's overlap stayed inconsistent after its "
-                          "re-evaluation (its volume may be wrong); please report the two shapes and poses");
-  }
+  if (geometry.num_inconsistent > 0)
+    inconsistent_warning.raise("Pair polyhedral/volumetric: a contact's overlap stayed inconsistent after its "
+                               "re-evaluation (its volume may be wrong); please report the two shapes and poses");
 }
 
 // Whether the overlap's centroid lies within both particles' bounding spheres (poly_contact_centroid_within);
@@ -601,12 +599,17 @@ bool PairPolyhedralVolumetric::centroid_within(int i, int j, const poly_overlap_
   double **x = atom->x, *radius = atom->radius, centroid[3], j_from_i[3];
   for (int k = 0; k < 3; k++) centroid[k] = geometry.centroid[k] - x[i][k], j_from_i[k] = x[j][k] - x[i][k];
   if (poly_contact_centroid_within(centroid, j_from_i, radius[i], radius[j])) return true;
-  if (!warned_centroid) {
-    warned_centroid = true;
-    error->warning(FLERR, "Pair polyhedral/volumetric: an overlap's centroid fell outside one of its two particles "
-                          "(a sliver thinner than the precision resolves); such overlaps are taken as no contact");
-  }
+  centroid_warning.raise("Pair polyhedral/volumetric: an overlap's centroid fell outside one of its two particles "
+                         "(a sliver thinner than the precision resolves); such overlaps are taken as no contact");
   return false;
+}
+
+// Called by every rank at the end of each compute (CPU or GPU): the warnings any rank met, said on rank 0.
+void PairPolyhedralVolumetric::share_warnings()
+{
+  if (!PolyhedralRankWarning::due(lmp)) return;
+  inconsistent_warning.share(lmp);
+  centroid_warning.share(lmp);
 }
 
 void PairPolyhedralVolumetric::record_contacts(Compute *compute, bool on)
@@ -754,6 +757,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
       apply_contact(i, j, geometry.volume, geometry.depth, geometry.normal, geometry.centroid, out, persisting);
     }
   }
+  share_warnings();
 }
 
 // Forces and torques on i (and on j when it is owned here or newton is on),

@@ -12,6 +12,7 @@
 #include "pair.h"
 #include "poly_contact.h"
 #include "poly_overlap.h"
+#include "polyhedral_warning.h"
 
 namespace LAMMPS_NS {
 
@@ -109,7 +110,8 @@ class PairPolyhedralVolumetric : public Pair {
   std::vector<PolyContactRecord> records;
   poly_degenerate_counts degenerate;
   EvaluationCounts evaluations;
-  bool warned_inconsistent, warned_centroid;
+  PolyhedralRankWarning inconsistent_warning, centroid_warning;
+  void share_warnings();
   void count_degenerate(const poly_overlap_result &geometry);
   bool centroid_within(int i, int j, const poly_overlap_result &geometry);
 

@@ -261,6 +261,7 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
         torque[i][k] += sums[6 * i + 3 + k];
       }
   }
+  share_warnings();  // collective: ranks computing on the host share theirs in the host path's compute
 #else
   (void) eflag;
   (void) vflag;

@@ -51,6 +51,8 @@ class DeckResult:
             if words and words[0] == "Step":
                 header = words
                 continue
+            if header and line.startswith("WARNING"):  # said mid-run: the table goes on after it
+                continue
             if header and len(words) == len(header) and re.match(r"^-?\d+$", words[0]):
                 for name, value in zip(header, words):
                     table.setdefault(name, []).append(float(value))

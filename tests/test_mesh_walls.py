@@ -356,6 +356,40 @@ def test_mesh_contact_crosses_ranks(run_deck, tmp_path):
     check_crosses_ranks(run_deck, tmp_path, deck, "mesh contact")
 
 
+def pentagonal_pit(centre_x, radius=0.05):
+    """An inverted pyramid of five triangles, its apex at (centre_x, 0, 0), faces at 45 degrees: their normals
+    49 degrees apart, so a ball resting in it touches five surfaces of one mesh."""
+    corners = [(centre_x + radius * math.cos(2 * math.pi * k / 5), radius * math.sin(2 * math.pi * k / 5), radius)
+               for k in range(5)]
+    return [((centre_x, 0.0, 0.0), corners[(k + 1) % 5], corners[k]) for k in range(5)]
+
+
+@pytest.mark.parametrize("ranks", [1, 2])
+def test_more_surfaces_than_slots_is_said_from_any_rank(run_deck, tmp_path, ranks):
+    """A ball (icosphere_80, 20 mm) dropped into a five-sided pit lands on five surfaces of one mesh, one more than
+    the contact slots (kMeshContactSlots): the fifth contact has no tangential spring, and a warning says so, once,
+    on the screen and in the log file. The pit lies at x = 0.1, on the second rank of `processors 2 1 1`: LIGGGHTS
+    opens the log file on rank 0 only, so until the warning was shared over the ranks the two-rank run's log said
+    nothing (and with `-screen none` nothing said it at all)."""
+    meshes.write_stl(tmp_path / "pit.stl", pentagonal_pit(0.1))
+    deck = (decks.header(boundary="f f f", lo=-0.3, hi=0.3, ntypes=2,
+                         processors="2 1 1" if ranks == 2 else None) +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n" + decks.materials() +
+            decks.template("ball", "icosphere_80.off", scale=0.02, atom_type=1) +
+            "pair_style polyhedral/volumetric\npair_coeff * *\n"
+            "create_polyhedron ball 0.1 0 0.02\n"
+            "fix integrate all nve/polyhedron\nfix gravity all gravity 9.81 vector 0 0 -1\n" +
+            mesh_wall("../pit.stl") +
+            "thermo_style custom step f_floor[3] f_floor[4]\nthermo 10\ntimestep 1e-5\nrun 5000\n")
+    result = run_deck(deck, nprocs=ranks, workdir=tmp_path / "run")
+    assert result.returncode == 0, result.output[-3000:]
+    contacts = result.thermo("Step", "f_floor[4]")["f_floor[4]"]
+    assert max(contacts) == 5, contacts
+    warning = "touches more than 4 surfaces of mesh 'floor_mesh'"
+    log = (tmp_path / "run" / "log.lammps").read_text()
+    assert result.output.count(warning) == 1 and log.count(warning) == 1, result.output[-3000:]
+
+
 def flipped_grid():
     """A 4 x 4 grid with one triangle of an inner cell turned over: its three edges disagree."""
     triangles = meshes.grid(4, 0.1)

@@ -1,0 +1,66 @@
+/* A warning that any rank may meet in the middle of a step (a contact's overlap, a wall's contact slots).
+ * LIGGGHTS' Error::warning writes only where the rank has a screen or a log file open, which is rank 0: the same
+ * warning met on another rank was lost, and the wrong answer it reports went silent in parallel runs. Here a rank
+ * raises the warning, and share() (collective) says it once, on rank 0, whichever rank met it. */
+#ifndef POLYHEDRAL_WARNING_H
+#define POLYHEDRAL_WARNING_H
+
+#include <mpi.h>
+#include <string>
+
+#include "comm.h"
+#include "error.h"
+#include "lammps.h"
+#include "neighbor.h"
+#include "update.h"
+
+class PolyhedralRankWarning {
+ public:
+  PolyhedralRankWarning() : pending(0), said(false) {}
+
+  // Met on this rank; `message` the text the warning will have (the lowest such rank's is said).
+  void raise(const std::string &message)
+  {
+    if (raised()) return;
+    pending = 1;
+    text = message;
+  }
+
+  // Raised here and not yet shared, or already said: a caller may skip making the message.
+  bool raised() const { return said || pending; }
+
+  // Whether share() should run at this step: where LIGGGHTS rebuilds the neighbour lists (a step every rank takes
+  // together), at set-up and at the run's last step, so that a warning is said within one list's life and before
+  // the run ends, at the cost of one small reduction per rebuild.
+  static bool due(LAMMPS_NS::LAMMPS *lmp)
+  {
+    return lmp->update->setupflag || lmp->neighbor->ago == 0 || lmp->update->ntimestep >= lmp->update->laststep;
+  }
+
+  // Collective: every rank at the same steps. Says the warning on rank 0 when some rank raised it.
+  void share(LAMMPS_NS::LAMMPS *lmp)
+  {
+    if (said) return;
+    int any = 0, me = lmp->comm->me;
+    MPI_Allreduce(&pending, &any, 1, MPI_INT, MPI_MAX, lmp->world);
+    if (!any) return;
+    // The text of the lowest rank that met it.
+    int from = pending ? me : 1 << 30, first = 0;
+    MPI_Allreduce(&from, &first, 1, MPI_INT, MPI_MIN, lmp->world);
+    int length = me == first ? (int)text.size() : 0;
+    MPI_Bcast(&length, 1, MPI_INT, first, lmp->world);
+    std::string message(length, ' ');
+    if (me == first) message = text;
+    if (length > 0) MPI_Bcast(&message[0], length, MPI_CHAR, first, lmp->world);
+    said = true;
+    pending = 0;
+    if (me == 0) lmp->error->warning(__FILE__, __LINE__, message.c_str());
+  }
+
+ private:
+  int pending;
+  bool said;
+  std::string text;
+};
+
+#endif
