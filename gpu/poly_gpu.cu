@@ -204,7 +204,7 @@ __device__ __forceinline__ void finish_pair(int p, const PairBodies &pair, const
   }
   poly_contact_input input;
   input.volume = geometry.volume;
-  input.depth = geometry.depth;
+  input.depth = poly_contact_pair_depth(geometry.volume, geometry.depth, geometry.projected_area);
   poly_matrix_apply(rotation_i, local_centroid, input.centroid);
   poly_matrix_apply(rotation_i, local_normal, input.normal);
   for (int k = 0; k < 3; k++) input.centroid[k] += state_i.position[k];
@@ -236,7 +236,7 @@ __device__ __forceinline__ void finish_pair(int p, const PairBodies &pair, const
     r.contact = 1;
     r.pair = p;
     r.volume = geometry.volume;
-    r.depth = geometry.depth;
+    r.depth = input.depth;
     r.normal_force = law.normal_force - law.cohesive_force;  // net, as the CPU style records it
     for (int k = 0; k < 3; k++) {
       r.normal[k] = input.normal[k];

@@ -739,7 +739,8 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
       if (touch) touch[jj] = 1;
 
       poly_contact_input input;
-      poly_contact_input_set_geometry(&input, geometry.volume, geometry.depth, geometry.normal, geometry.centroid);
+      const double depth = poly_contact_pair_depth(geometry.volume, geometry.depth, geometry.projected_area);
+      poly_contact_input_set_geometry(&input, geometry.volume, depth, geometry.normal, geometry.centroid);
       input.contact_area = geometry.projected_area;
       poly_contact_input_set_second_moment(&input, geometry.second_moment);
       poly_contact_input_set_bodies(&input, x[i], v[i], omega[i], rmass[i], x[j], v[j], omega[j], rmass[j],
@@ -754,7 +755,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
       poly_contact_output out;
       poly_contact_evaluate(&input, &material(type[i], type[j]), tangential_history, damping, state, &out);
 
-      apply_contact(i, j, geometry.volume, geometry.depth, geometry.normal, geometry.centroid, out, persisting);
+      apply_contact(i, j, geometry.volume, depth, geometry.normal, geometry.centroid, out, persisting);
     }
   }
   share_warnings();

@@ -1,7 +1,8 @@
 /* Volumetric Hertz-Mindlin-Deresiewicz contact law (document 000, sec. 4.2).
  *
  * For two bodies whose overlap has volume V, depth delta (extent along the
- * normal), normal n (from body i to body j) and centroid c:
+ * normal; for particle pairs at most 3 V / A, poly_contact_pair_depth), normal n (from body i to body j) and
+ * centroid c:
  *   normal:      F_n = 4/(3 sqrt(pi)) E* sqrt(V delta) - gamma_n (u . n)     (4.16)
  *                k_n = 2 E* sqrt(V / (pi delta))                             (4.17)
  *   tangential:  k_t = 8 G* sqrt(V / (pi delta))                             (4.18)
@@ -109,6 +110,23 @@ POLY_INLINE int poly_contact_centroid_within(const double *centroid, const doubl
   }
   const double reach_i = (1.0 + 1e-6) * radius_i, reach_j = (1.0 + 1e-6) * radius_j;
   return from_i <= reach_i * reach_i && from_j <= reach_j * reach_j;
+}
+
+/* The depth the law takes for a particle pair: the overlap's extent along the normal (document 000, sec. 4.2),
+ * at most 3 V / A, A the length of the summed area vector (projected_area). A convex overlap always has
+ * V >= A delta / 3: it holds the two cones from its extreme points along n over its intersection curve, whose
+ * volume is exactly A delta / 3 (a vertex pressed into a face is such a cone; a lens has 3 V / A = 1.5 delta, a
+ * face on a face 3 delta), so for every one-spot contact of convex bodies the extent is kept (the cap 1e-6 above
+ * 3 V / A, which rounding leaves it). One contact per pair means that a pair of non-convex particles touching at
+ * several spots has the spots' spread along the normal as its extent, a particle size for spots of microns, and
+ * a normal force that grows with sqrt(V delta) by orders of magnitude; capped, such a contact's depth is of the
+ * order of its spots' own (their area-weighted depth where they are cones, three times it where faces lie on
+ * faces). */
+POLY_INLINE double poly_contact_pair_depth(double volume, double depth, double projected_area)
+{
+  if (!(projected_area > 0.0)) return depth;
+  const double cap = (1.0 + 1e-6) * 3.0 * volume / projected_area;
+  return depth < cap ? depth : cap;
 }
 
 /* The two bodies of a contact input: positions, velocities, angular

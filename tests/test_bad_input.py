@@ -346,11 +346,12 @@ def test_bad_number_names_its_keyword(run_deck, line, expected):
 
 def test_settled_bed_of_non_convex_particles_gives_no_overlap_warning(run_deck, tmp_path):
     """tests/data/settled_bed_N2000.data (2000 Schoenhardt polyhedra at rest) read by examples/gravity_packing's
-    deck: one contact per pair, and for a pair touching at spots a particle size apart its depth is the spots'
-    spread along the normal, millimetres for a volume of 3e-16 m^3 (tools/settled_bed_contacts.py). 723 of its
-    5385 overlapping pairs have such depths above 1 % of the bounding diameter, and the set-up used to warn that
-    they would be pushed apart violently; they hold far less than 1 % of a cube that deep, and now give no warning
-    (the cubes pushed 5 mm into each other above still do)."""
+    deck: one contact per pair, and for a pair touching at spots a particle size apart its extent along the normal
+    is the spots' spread, millimetres for a volume of 3e-16 m^3 (tools/settled_bed_contacts.py). 723 of its 5385
+    overlapping pairs had such depths above 1 % of the bounding diameter, and the set-up used to warn that they
+    would be pushed apart violently; they hold far less than 1 % of a cube that deep, and gave no warning since;
+    the pair style's depth is now also capped at 3 V / A, which leaves none of them above 1 % (the cubes pushed
+    5 mm into each other above still warn)."""
     import pathlib
     root = pathlib.Path(__file__).resolve().parent.parent
     deck = (root / "examples" / "gravity_packing" / "in.packing").read_text()

@@ -272,3 +272,91 @@ def test_block_set_down_on_a_slope_below_the_friction_angle_sticks(run_deck, tmp
           f"{np.max(np.abs(state[window, 7])):.2e} rad/s")
     # Twice the elastic tangential deflection (0.5 um) in 0.1 s, 0.1 s after landing; measured 0.15 mm.
     assert creep < 1e-6, creep
+
+
+# f. two spots of one pair -------------------------------------------------------------------------
+
+# A U-channel, in cm: the block [-3, 3] x [-2, 2] x [0, 1.5] less the slot [-1, 1] x [-2, 2] x [0.75, 1.5], its
+# profile in the x-z plane extruded along y. Longest along x, shortest along z, and mirror-symmetric in x and y,
+# so its principal axes, in ascending moments, are the file's x, y and z: with the identity quaternion it lies
+# as written, its centre of mass at z = 0.675 above its base.
+CHANNEL_PROFILE = [(-3, 0), (3, 0), (3, 0.75), (3, 1.5), (1, 1.5), (1, 0.75), (-1, 0.75), (-1, 1.5), (-3, 1.5),
+                   (-3, 0.75)]
+CHANNEL_CAP = [(0, 1, 2), (0, 2, 5), (0, 5, 6), (0, 6, 9), (2, 3, 4), (2, 4, 5), (6, 7, 8), (6, 8, 9)]
+CHANNEL_CENTRE_Z = 0.675
+
+
+def channel_obj():
+    n = len(CHANNEL_PROFILE)
+    lines = [f"v {x} {y} {z}" for y in (-2, 2) for x, z in CHANNEL_PROFILE]
+    # The profile runs counter-clockwise in (x, z), whose normal is -y: the cap at y = -2 as listed, the other
+    # reversed, and each side quad from the edge at y = -2 to the one at y = +2.
+    faces = [(a, b, c) for a, b, c in CHANNEL_CAP] + [(n + a, n + c, n + b) for a, b, c in CHANNEL_CAP]
+    for k in range(n):
+        a, b = k, (k + 1) % n
+        faces += [(a, n + b, b), (a, n + a, n + b)]
+    return "\n".join(lines + [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in faces]) + "\n"
+
+
+def test_cube_in_a_corner_of_a_non_convex_particle(run_deck, tmp_path):
+    """A 5 mm cube pressed by gravity at 45 degrees into the inner corner of a frozen U-channel (a non-convex
+    particle, 1 cm to its unit): two face-on-face spots, the slot's floor and its wall, of one pair, so one
+    contact. Its extent along the bisecting normal is the spots' spread, half the cube's size, and a law taking
+    that as the depth held the cube at about 1e-6 of the depth two separate face contacts would have (a
+    contact some 1e6 times too stiff). The pair style takes at most 3 V / A (poly_contact_pair_depth), which
+    for two face slabs of depth delta on faces of area e^2 is about 3 sqrt(2) delta; with V = 2 e^2 delta -
+    e delta^2 and A = sqrt(2) e (e - delta), the law's force c E* sqrt(V 3 V / A) balances m g at the depth the
+    test solves for, 0.486 of two separate contacts' (the cap's price for flat spots: their force 2.06 times
+    the sum of the spots' own). The cube must rest there, within 1 %, pushed equally into floor and wall.
+    Frictionless: with friction the landing's tangential springs leave the cube twisted about the normal by 4e-5
+    rad (one contact has no twisting spring), enough to lift an edge of each face off at these depths."""
+    (tmp_path / "channel.obj").write_text(channel_obj())
+    scale, edge, density, youngs, poisson = 0.01, 0.005, 2500.0, 1e7, 0.25
+    floor, wall = 0.75 * scale, 1.0 * scale  # the slot's floor (base at z = 0) and its wall at +x
+    # touching both: the cube's faces on the floor and on the wall
+    cube_x, cube_z = wall - edge / 2, floor + edge / 2
+    tilt = math.radians(45.0)
+    deck = (decks.header(boundary="f f f", lo=-0.05, hi=0.05, ntypes=2) +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n" +
+            decks.materials(youngs=str(youngs), poisson=poisson, friction=0.0) +
+            decks.template("block", "cube.stl", scale=edge, density=density, atom_type=1) +
+            "fix support all particletemplate/polyhedron 32452843 atom_type 2 density constant 2500 "
+            f"file {tmp_path / 'channel.obj'} scale {scale}\n"
+            "pair_style polyhedral/volumetric\npair_coeff * *\n"
+            f"create_polyhedron support 0 0 {CHANNEL_CENTRE_Z * scale!r}\n"
+            f"create_polyhedron block {cube_x!r} 0 {cube_z!r}\n"
+            "group mobile type 1\nfix integrate mobile nve/polyhedron\n"
+            f"fix gravity mobile gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\n"
+            "variable x equal x[2]\nvariable z equal z[2]\nvariable y equal y[2]\n"
+            "compute contacts all pair/polyhedral/local\ncompute n all reduce sum c_contacts[1]\n"
+            "thermo_style custom step v_x v_y v_z\nthermo_modify format float %.17g\nthermo 1000\n"
+            "timestep 1e-5\nrun 30000\n")
+    result = run_deck(deck)
+    assert result.returncode == 0, result.output[-3000:]
+    assert not result.warning_lines(), result.warning_lines()
+    table = result.thermo("Step", "v_x", "v_y", "v_z")
+    into_wall = np.array(table["v_x"]) - cube_x
+    into_floor = cube_z - np.array(table["v_z"])
+    settled = np.array(table["Step"]) >= 20000
+    mass, weight = density * edge ** 3, density * edge ** 3 * G
+    c_e = 4.0 / (3.0 * math.sqrt(math.pi)) * youngs / (2.0 * (1.0 - poisson ** 2))
+
+    def capped_force(delta):
+        volume = 2.0 * edge ** 2 * delta - edge * delta ** 2
+        return c_e * volume * math.sqrt(3.0 / (math.sqrt(2.0) * edge * (edge - delta)))
+
+    low, high = 0.0, 0.01 * edge
+    for _ in range(200):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if capped_force(middle) < weight else (low, middle)
+    expected = 0.5 * (low + high)
+    separate = weight / (math.sqrt(2.0) * c_e * edge)  # two face contacts, each c E* e delta
+    depth = 0.5 * (into_wall[settled] + into_floor[settled]).mean()
+    print(f"\ncube in the channel's corner: pushed {into_wall[settled].mean():.4e} m into the wall and "
+          f"{into_floor[settled].mean():.4e} m into the floor; the capped law's closed form {expected:.4e} m, "
+          f"two separate face contacts' {separate:.4e} m (mass {mass:.3g} kg)")
+    assert abs(np.ptp(into_wall[settled])) < 1e-3 * expected and abs(np.ptp(into_floor[settled])) < 1e-3 * expected
+    assert abs(into_wall[settled].mean() / expected - 1) < 0.01, into_wall[settled].mean()
+    assert abs(into_floor[settled].mean() / expected - 1) < 0.01, into_floor[settled].mean()
+    assert abs(depth / separate - 0.486) < 0.01
+    assert np.abs(np.array(table["v_y"])).max() < 1e-12

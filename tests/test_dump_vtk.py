@@ -121,7 +121,7 @@ def test_encodings_and_pieces_hold_the_same_surfaces_and_fields(run_deck):
     assert np.allclose(arrays["f"][first], expected_force, rtol=1e-9, atol=1e-12)
     expected_contacts = np.array([rows[i][4] for i in ids])
     assert np.array_equal(arrays["contacts"][first], expected_contacts)
-    assert expected_contacts.sum() > 20    # a pile, so the comparison is not of zeros
+    assert expected_contacts.sum() > 10    # a pile, so the comparison is not of zeros (18 contact ends at 4000)
     assert np.abs(expected_force).max() > 0
 
     # The .pvtp: an index and one piece per rank, together the same particles.

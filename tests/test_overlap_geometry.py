@@ -49,6 +49,7 @@ SOURCES = [os.path.join(ROOT, "src", name)
 
 SHIM_SOURCE = r"""
 #include <stdlib.h>
+#include "poly_contact.h"
 #include "poly_overlap.h"
 #include "poly_halfspace.h"
 #include "poly_mesh_shell.h"
@@ -110,10 +111,17 @@ static void shim_write_result(const poly_overlap_result *r, double *out)
   out[9] = r->num_nodes;
   out[10] = r->num_inconsistent;
   out[11] = r->filtered_out;
+  out[12] = r->projected_area;
+}
+
+/* The depth the pair style's contact law takes (poly_contact_pair_depth). */
+double shim_pair_depth(double volume, double depth, double projected_area)
+{
+  return poly_contact_pair_depth(volume, depth, projected_area);
 }
 
 /* poses: position (3) and quaternion (4) each; out: volume, centroid (3), normal (3), depth,
- * area, num_nodes, num_inconsistent, filtered_out. */
+ * area, num_nodes, num_inconsistent, filtered_out, projected_area. */
 void shim_overlap(const void *a, const double *pose_a, const void *b, const double *pose_b, int single,
                   int use_filter, double *out)
 {
@@ -210,6 +218,7 @@ class Result:
         self.normal = list(out[4:7])
         self.depth, self.area = out[7], out[8]
         self.num_nodes, self.num_inconsistent, self.filtered_out = int(out[9]), int(out[10]), int(out[11])
+        self.projected_area = out[12]
 
 
 class Library:
@@ -231,6 +240,8 @@ class Library:
         lib.shim_halfspace.restype = None
         lib.shim_mesh_wall.argtypes = [ctypes.c_void_p, DOUBLES, DOUBLES, ctypes.c_int, ctypes.c_double, DOUBLES]
         lib.shim_mesh_wall.restype = ctypes.c_int
+        lib.shim_pair_depth.argtypes = [ctypes.c_double] * 3
+        lib.shim_pair_depth.restype = ctypes.c_double
         assert lib.shim_init(self.MAX_VERTICES, self.MAX_TRIANGLES) == 0
         self.shapes = {}
 
@@ -242,10 +253,13 @@ class Library:
 
     def overlap(self, a, pose_a, b, pose_b, precision="d", use_filter=1):
         poses = [(ctypes.c_double * 7)(*[float(x) for x in list(p[0]) + list(p[1])]) for p in (pose_a, pose_b)]
-        out = (ctypes.c_double * 12)()
+        out = (ctypes.c_double * 13)()
         self.lib.shim_overlap(a.handle, poses[0], b.handle, poses[1], "dfm".index(precision), use_filter, out)
         return Result(list(out))
 
+    def pair_depth(self, result):
+        """The depth the pair style's law takes for this overlap (poly_contact_pair_depth)."""
+        return self.lib.shim_pair_depth(result.volume, result.depth, result.projected_area)
 
     def mesh_wall(self, a, pose, triangles, thickness):
         """a at pose against the shell of thickness `thickness` behind the triangles ((3, 3) arrays)."""
@@ -261,7 +275,7 @@ class Library:
 
     def halfspace(self, a, pose, normal, offset):
         """a at pose against the wall solid {x : normal.x < offset}."""
-        out = (ctypes.c_double * 12)()
+        out = (ctypes.c_double * 13)()
         self.lib.shim_halfspace(a.handle, (ctypes.c_double * 7)(*[float(x) for x in list(pose[0]) + list(pose[1])]),
                                 (ctypes.c_double * 3)(*[float(x) for x in normal]), float(offset), out)
         return Result(list(out))
@@ -648,7 +662,52 @@ def test_cube_in_the_notch_of_the_l_shape(overlap_lib, shapes):
         # Pushed 0.05 into the inner corner (top and bottom faces coplanar with the L's):
         # two slabs of the cube inside the L's arms.
         result = overlap_lib.overlap(l_shape, pose_l, cube, ((1.45, 1.45, 0.5), IDENTITY), precision)
-        assert abs(result.volume - (0.05 * 1.0 + 0.05 * 0.95)) < TOLERANCE[precision] * 0.0975
+        volume = 0.05 * 1.0 + 0.05 * 0.95
+        assert abs(result.volume - volume) < TOLERANCE[precision] * volume
+        # One contact for the two spots: the L's faces x = 1 and y = 1 inside the cube, 0.95 x 1 each (area
+        # vector (0.95, 0.95, 0); the top and bottom faces, flush, cancel), and the extent of the two slabs along
+        # (1, 1, 0) / sqrt 2 is their spread, 1.05 / sqrt 2, where each slab is 0.05 deep. The law takes at most
+        # 3 V / A (poly_contact_pair_depth): 3 x 0.0975 / (0.95 sqrt 2) = 0.218, four times a slab's depth
+        # rather than fifteen.
+        area = 0.95 * math.sqrt(2.0)
+        assert abs(result.projected_area - area) < TOLERANCE[precision] * area
+        assert abs(result.depth - 1.05 / math.sqrt(2.0)) < TOLERANCE[precision]
+        law_depth = overlap_lib.pair_depth(result)
+        assert abs(law_depth - (1.0 + 1e-6) * 3.0 * volume / area) < TOLERANCE[precision] * law_depth  # its slack
+
+
+CONVEX_PAIRS = [("cube", "cube"), ("box_1x2x3", "cube"), ("box_1x2x3", "box_1x2x3"), ("tetrahedron", "tetrahedron"),
+                ("tetrahedron", "cube"), ("icosphere_80", "icosphere_80"), ("icosphere_320", "tetrahedron")]
+
+
+@pytest.mark.parametrize("names", CONVEX_PAIRS, ids=["-".join(p) for p in CONVEX_PAIRS])
+def test_convex_overlaps_keep_their_extent_as_the_law_depth(overlap_lib, shapes, names):
+    """The pair style's law takes the depth min(extent, 3 V / A) (poly_contact_pair_depth). A convex overlap holds
+    the two cones from its extreme points along the normal over its intersection curve, of volume A delta / 3, so
+    its extent never exceeds 3 V / A and the law keeps it: bit for bit in double, over random and grazing poses
+    (overlaps of 1e-6 to 1 of the smaller volume). A vertex pressed into a face is such a cone (3 V / (A delta) = 1
+    to rounding), so the bound is tight: in single precision rounding takes some such poses past the cap's 1e-6 of
+    slack, and the law's depth is the extent to within the single-precision tolerance (1e-4) where the overlap is
+    more than 1e-3 of the smaller volume (the tolerance of V itself, test_volume_and_centroid_match_reference)."""
+    a, b = shapes[names[0]], shapes[names[1]]
+    found, small_overlaps = pair_poses(overlap_lib, shapes, names)
+    small = min(a.volume, b.volume)
+    tightest, worst_single = math.inf, 0.0
+    for pose_a, pose_b, _, _ in found + small_overlaps:
+        for precision in "df":
+            result = overlap_lib.overlap(a, pose_a, b, pose_b, precision)
+            if not result.volume > 0.0:
+                continue
+            law_depth = overlap_lib.pair_depth(result)
+            if precision == "d":
+                assert law_depth == result.depth, (result.volume, result.depth, result.projected_area)
+                tightest = min(tightest, 3.0 * result.volume / (result.projected_area * result.depth))
+            elif result.volume > 1e-3 * small:
+                worst_single = max(worst_single, 1.0 - law_depth / result.depth)
+    print(f"\n{'-'.join(names)}: smallest 3 V / (A delta) {tightest:.9f} in double; law depth below the extent by "
+          f"{worst_single:.1e} at most in single")
+    assert tightest >= 1.0 - 1e-6
+    assert worst_single < TOLERANCE["f"]
 
 
 # ---------------------------------------------------------------------------------------------

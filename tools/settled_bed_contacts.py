@@ -6,9 +6,10 @@ the pair style finds them at set-up, through examples/gravity_packing/in.packing
 
 (LIGGGHTS: a liggghts-poly, default build/bin/liggghts-poly.) Prints the contacts, those with a depth above 1 % of
 the bounding diameter (the set-up's warning's depth) and what their volumes and depths are: a pair touching at
-spots a particle size apart is one contact whose depth is the spots' spread along its normal (doc/pair_polyhedral_
-volumetric.md, Restrictions), and its normal force, which grows with sqrt(V delta), is that of a one-spot contact
-1e-5 m deep with delta / 1e-5 m times its volume."""
+spots a particle size apart is one contact whose extent along its normal is the spots' spread, and its normal
+force, which grows with sqrt(V delta), was that of a one-spot contact 1e-5 m deep with delta / 1e-5 m times its
+volume while the depth was the extent (723 of 5385 contacts above 1 %, up to 12 mm deep). The depth is now at
+most 3 V / A (doc/pair_polyhedral_volumetric.md, Depth), and none is above 1 %."""
 import os
 import pathlib
 import statistics

@@ -335,7 +335,8 @@ int main(int argc, char **argv)
       if (!contact || !results[p].contact) continue;
       contacts++;
       poly_contact_input in;
-      poly_contact_input_set_geometry(&in, g.volume, g.depth, g.normal, g.centroid);
+      const double depth = poly_contact_pair_depth(g.volume, g.depth, g.projected_area);  // the pair style's
+      poly_contact_input_set_geometry(&in, g.volume, depth, g.normal, g.centroid);
       poly_contact_input_set_second_moment(&in, g.second_moment);
       poly_contact_input_set_bodies(&in, a.position, a.velocity, a.omega, body.mass, b.position, b.velocity, b.omega,
                                     body.mass, 1e-6);
@@ -349,7 +350,7 @@ int main(int argc, char **argv)
       double force_scale = fabs(out.normal_force) + 1e-300;
       volume_differences.push_back(fabs(r.volume - g.volume) / g.volume);
       struct { const char *what; double host, gpu, scale; int check; } checks[] = {
-          {"volume", g.volume, r.volume, volume_scale, 1}, {"depth", g.depth, r.depth, g.depth, substantial},
+          {"volume", g.volume, r.volume, volume_scale, 1}, {"depth", depth, r.depth, depth, substantial},
           {"centroid x", g.centroid[0], r.centroid[0], size, substantial},
           {"centroid y", g.centroid[1], r.centroid[1], size, substantial},
           {"centroid z", g.centroid[2], r.centroid[2], size, substantial}, {"normal x", g.normal[0], r.normal[0], 1.0, substantial},
