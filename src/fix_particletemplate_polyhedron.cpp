@@ -133,10 +133,12 @@ OverlapProbe *new_overlap_probe(LAMMPS *lmp)
 // diameter are reported at set-up,
 const double kInitialOverlapFraction = 0.01;
 // if they also hold this fraction of a cube as deep as their depth: a pair of non-convex particles touching at
-// spots a particle size apart has one contact whose depth is the spots' spread along its normal (one contact per
-// pair, document 000 sec. 5.4), millimetres for volumes of 3e-16 m^3 in a settled bed of Schoenhardt polyhedra
+// spots a particle size apart has one contact (one contact per pair, document 000 sec. 5.4) whose extent along
+// its normal is the spots' spread, millimetres for volumes of 3e-16 m^3 in a settled bed of Schoenhardt polyhedra
 // (723 of its 5385 overlapping pairs), and is no deep overlap; a cube's corner pushed in that deep holds a sixth
-// of such a cube.
+// of such a cube. (The pair style's depth, which the probe records, is now also capped at 3 V / A,
+// poly_contact_pair_depth, which leaves none of that bed's contacts above the fraction; spots whose normals
+// oppose each other can still have the spread as their depth.)
 const double kInitialOverlapFill = 0.01;
 }
 
@@ -153,7 +155,7 @@ FixParticletemplatePolyhedron::FixParticletemplatePolyhedron(LAMMPS *lmp, int na
     poly_shape_free(&shape_);
     error->fix_error(FLERR, this, message);
   }
-  if (shape_.was_flipped) {
+  if (shape_.was_flipped && comm->me == 0) {  // every rank loads the shape; one says so
     snprintf(message, sizeof message,
              "Fix %s (id %s): shape mesh '%s' is oriented inward; its triangles were flipped", kStyle, id, file_);
     error->warning(FLERR, message);

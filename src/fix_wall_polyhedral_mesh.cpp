@@ -519,7 +519,7 @@ bool FixWallPolyhedral::apply_mesh_plane(int m, int i, size_t first, size_t last
     snprintf(message, sizeof message, "Fix wall/polyhedral %s: a particle touches more than %d surfaces of mesh '%s' "
              "at once; the contacts past them have no tangential spring", id, (int)kMeshContactSlots,
              mesh_ids[m].c_str());
-    slots_warning.raise(message);
+    slots_warning.raise(FLERR, message);
   }
   double force[3], shift[3];
   FixMeshSurface *surface = meshes[m];

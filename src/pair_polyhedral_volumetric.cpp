@@ -588,8 +588,9 @@ void PairPolyhedralVolumetric::count_degenerate(const poly_overlap_result &geome
 {
   poly_degenerate_count(&degenerate, &geometry);
   if (geometry.num_inconsistent > 0)
-    inconsistent_warning.raise("Pair polyhedral/volumetric: a contact's overlap stayed inconsistent after its "
-                               "re-evaluation (its volume may be wrong); please report the two shapes and poses");
+    inconsistent_warning.raise(FLERR, "Pair polyhedral/volumetric: a contact's overlap stayed inconsistent after "
+                                      "its re-evaluation (its volume may be wrong); please report the two shapes and "
+                                      "poses");
 }
 
 // Whether the overlap's centroid lies within both particles' bounding spheres (poly_contact_centroid_within);
@@ -599,8 +600,9 @@ bool PairPolyhedralVolumetric::centroid_within(int i, int j, const poly_overlap_
   double **x = atom->x, *radius = atom->radius, centroid[3], j_from_i[3];
   for (int k = 0; k < 3; k++) centroid[k] = geometry.centroid[k] - x[i][k], j_from_i[k] = x[j][k] - x[i][k];
   if (poly_contact_centroid_within(centroid, j_from_i, radius[i], radius[j])) return true;
-  centroid_warning.raise("Pair polyhedral/volumetric: an overlap's centroid fell outside one of its two particles "
-                         "(a sliver thinner than the precision resolves); such overlaps are taken as no contact");
+  centroid_warning.raise(FLERR, "Pair polyhedral/volumetric: an overlap's centroid fell outside one of its two "
+                                "particles (a sliver thinner than the precision resolves); such overlaps are taken "
+                                "as no contact");
   return false;
 }
 

@@ -113,15 +113,18 @@ POLY_INLINE int poly_contact_centroid_within(const double *centroid, const doubl
 }
 
 /* The depth the law takes for a particle pair: the overlap's extent along the normal (document 000, sec. 4.2),
- * at most 3 V / A, A the length of the summed area vector (projected_area). A convex overlap always has
- * V >= A delta / 3: it holds the two cones from its extreme points along n over its intersection curve, whose
- * volume is exactly A delta / 3 (a vertex pressed into a face is such a cone; a lens has 3 V / A = 1.5 delta, a
- * face on a face 3 delta), so for every one-spot contact of convex bodies the extent is kept (the cap 1e-6 above
- * 3 V / A, which rounding leaves it). One contact per pair means that a pair of non-convex particles touching at
- * several spots has the spots' spread along the normal as its extent, a particle size for spots of microns, and
- * a normal force that grows with sqrt(V delta) by orders of magnitude; capped, such a contact's depth is of the
- * order of its spots' own (their area-weighted depth where they are cones, three times it where faces lie on
- * faces). */
+ * at most 3 V / A, A_vec the area vector of the first body's surface S inside the second, A its length
+ * (projected_area), n = A_vec / A. A convex overlap K always has V >= A delta / 3: for p in K let
+ * f(p) = 1/3 int_S (x - p).n dS, the volume of the cones from p over S, each non-negative as K is convex, and
+ * together at most V; f is affine in p with gradient -A_vec / 3, so V >= f(p_low) - f(p_high) = A delta / 3 for the
+ * extreme points of K along n. Equality is a vertex pressed into a face; a lens has 3 V / A = 1.5 delta, a face on
+ * a face 3 delta. So every one-spot contact of convex bodies keeps its extent (the cap 1e-6 above 3 V / A, which
+ * rounding leaves it). One contact per pair means that a pair of non-convex particles touching at several spots
+ * has the spots' spread along the normal as its extent, a particle size for spots of microns, and a normal force
+ * that grows with sqrt(V delta) by orders of magnitude; capped, such a contact's depth is of the order of its
+ * spots' own where their normals are within about 90 degrees of each other (two face spots of depth d whose
+ * normals are theta apart: 3 d / cos(theta / 2)). Spots facing apart cancel in A_vec, and a particle wedged across
+ * a slot (theta = 180 degrees) keeps the spread. */
 POLY_INLINE double poly_contact_pair_depth(double volume, double depth, double projected_area)
 {
   if (!(projected_area > 0.0)) return depth;

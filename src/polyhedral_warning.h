@@ -16,14 +16,17 @@
 
 class PolyhedralRankWarning {
  public:
-  PolyhedralRankWarning() : pending(0), said(false) {}
+  PolyhedralRankWarning() : pending(0), said(false), line(0) {}
 
-  // Met on this rank; `message` the text the warning will have (the lowest such rank's is said).
-  void raise(const std::string &message)
+  // Met on this rank, at `file`:`where` (FLERR); `message` the text the warning will have (the lowest such rank's
+  // is said, with its site).
+  void raise(const char *file, int where, const std::string &message)
   {
     if (raised()) return;
     pending = 1;
     text = message;
+    site = file;
+    line = where;
   }
 
   // Raised here and not yet shared, or already said: a caller may skip making the message.
@@ -47,20 +50,29 @@ class PolyhedralRankWarning {
     // The text of the lowest rank that met it.
     int from = pending ? me : 1 << 30, first = 0;
     MPI_Allreduce(&from, &first, 1, MPI_INT, MPI_MIN, lmp->world);
-    int length = me == first ? (int)text.size() : 0;
-    MPI_Bcast(&length, 1, MPI_INT, first, lmp->world);
-    std::string message(length, ' ');
-    if (me == first) message = text;
-    if (length > 0) MPI_Bcast(&message[0], length, MPI_CHAR, first, lmp->world);
+    std::string message = broadcast(lmp, text, first), file = broadcast(lmp, site, first);
+    int where = line;
+    MPI_Bcast(&where, 1, MPI_INT, first, lmp->world);
     said = true;
     pending = 0;
-    if (me == 0) lmp->error->warning(__FILE__, __LINE__, message.c_str());
+    if (me == 0) lmp->error->warning(file.c_str(), where, message.c_str());
   }
 
  private:
   int pending;
   bool said;
-  std::string text;
+  std::string text, site;
+  int line;
+
+  static std::string broadcast(LAMMPS_NS::LAMMPS *lmp, const std::string &mine, int root)
+  {
+    int length = lmp->comm->me == root ? (int)mine.size() : 0;
+    MPI_Bcast(&length, 1, MPI_INT, root, lmp->world);
+    std::string out(length, ' ');
+    if (lmp->comm->me == root) out = mine;
+    if (length > 0) MPI_Bcast(&out[0], length, MPI_CHAR, root, lmp->world);
+    return out;
+  }
 };
 
 #endif

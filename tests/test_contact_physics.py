@@ -301,9 +301,9 @@ def channel_obj():
 def test_cube_in_a_corner_of_a_non_convex_particle(run_deck, tmp_path):
     """A 5 mm cube pressed by gravity at 45 degrees into the inner corner of a frozen U-channel (a non-convex
     particle, 1 cm to its unit): two face-on-face spots, the slot's floor and its wall, of one pair, so one
-    contact. Its extent along the bisecting normal is the spots' spread, half the cube's size, and a law taking
-    that as the depth held the cube at about 1e-6 of the depth two separate face contacts would have (a
-    contact some 1e6 times too stiff). The pair style takes at most 3 V / A (poly_contact_pair_depth), which
+    contact. Its extent along the bisecting normal is the spots' spread, (e + delta) / sqrt 2, 0.71 of the cube's
+    edge e, and a law taking that as the depth would hold the cube at 3e-5 of the depth two separate face contacts
+    would have; from the drop it threw the cube a millimetre back out of the corner. The pair style takes at most 3 V / A (poly_contact_pair_depth), which
     for two face slabs of depth delta on faces of area e^2 is about 3 sqrt(2) delta; with V = 2 e^2 delta -
     e delta^2 and A = sqrt(2) e (e - delta), the law's force c E* sqrt(V 3 V / A) balances m g at the depth the
     test solves for, 0.486 of two separate contacts' (the cap's price for flat spots: their force 2.06 times
