@@ -57,7 +57,8 @@ struct State {
   DeviceArray<int> contact;
   DeviceArray<int> touching;        // compact list of pairs whose bounding spheres overlap
   DeviceArray<int> counters;        // [0] touching pairs, [1] contacts, [2] pairs the warp kernel handed back,
-                                    // [3] touching pairs of shapes beyond the warp kernel's limits, [4] pairs kept
+                                    // [3] touching pairs of shapes beyond the warp kernel's limits, [4] pairs kept,
+                                    // [5] overlaps whose centroid fell outside their particles (no contact)
   DeviceArray<int> slot;            // per pair: its place in pair_force and results, -1 where the pre-filter
                                     // dropped it (most of a packed bed's pairs: no per-pair arrays for them)
   int num_kept;                     // pairs the last pre-filter kept: the size of pair_force and results
@@ -194,8 +195,10 @@ __device__ __forceinline__ void finish_pair(int p, const PairBodies &pair, const
   const int place = slot[p];
   double negligible = body_i.negligible_volume < body_j.negligible_volume ? body_i.negligible_volume
                                                                           : body_j.negligible_volume;
-  if (!(geometry.volume > negligible) || !(geometry.depth > 0.0) ||
+  const bool touches = geometry.volume > negligible && geometry.depth > 0.0;
+  if (!touches ||
       !poly_contact_centroid_within(local_centroid, pair.translation, body_i.bounding_radius, body_j.bounding_radius)) {
+    if (touches) atomicAdd(counters + 5, 1);  // rounding, dropped; the host warns as for its own (centroid_within)
     contact[p] = 0;
     for (int d = 0; d < POLY_HISTORY_SIZE; d++) pair_history[d] = 0.0;
     PairForce zero = {};
@@ -867,7 +870,7 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
             upload_raw(&s.triangles, triangles, message, message_size) &&
             upload_raw(&s.edges, edges, message, message_size) &&
             upload_raw(&s.edge_triangles, edge_triangles, message, message_size) &&
-            ensure(state.counters, 5, message, message_size) &&
+            ensure(state.counters, 6, message, message_size) &&
             upload_clip_faces(num_shapes, shapes, message, message_size);
   if (!ok) return -1;
   state.ready = true;
@@ -950,12 +953,12 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
   double start = now();
   if (!check(cudaMemcpy(state.motion.data, state.host_motion.data, sizeof(poly_gpu_motion) * state.num_particles,
                         cudaMemcpyHostToDevice), "upload motion", message, message_size) ||
-      !check(cudaMemset(state.counters.data, 0, 5 * sizeof(int)), "cudaMemset", message, message_size))
+      !check(cudaMemset(state.counters.data, 0, 6 * sizeof(int)), "cudaMemset", message, message_size))
     return -1;
   double uploaded = now();
 
   const int threads = kThreads;
-  int counters[2] = {0, 0};
+  int counters[6] = {0, 0, 0, 0, 0, 0};
   const bool want_results = results != NULL;
   bool ok = settings->precision == POLY_PRECISION_DOUBLE
                 ? narrow_phase<POLY_PRECISION_DOUBLE>(*settings, want_results, message, message_size)
@@ -972,9 +975,10 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
   }
   if (!check(cudaDeviceSynchronize(), "contact kernel", message, message_size)) return -1;
   double computed = now();
-  if (!check(cudaMemcpy(counters, state.counters.data, 2 * sizeof(int), cudaMemcpyDeviceToHost), "download counters",
+  if (!check(cudaMemcpy(counters, state.counters.data, 6 * sizeof(int), cudaMemcpyDeviceToHost), "download counters",
              message, message_size))
     return -1;
+  state.timing.centroid_outside += counters[5];
   if (results) {
     // The kept pairs' results and forces, each to its pair's place; the others have no contact.
     const int kept = state.num_kept;

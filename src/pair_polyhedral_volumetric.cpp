@@ -600,10 +600,15 @@ bool PairPolyhedralVolumetric::centroid_within(int i, int j, const poly_overlap_
   double **x = atom->x, *radius = atom->radius, centroid[3], j_from_i[3];
   for (int k = 0; k < 3; k++) centroid[k] = geometry.centroid[k] - x[i][k], j_from_i[k] = x[j][k] - x[i][k];
   if (poly_contact_centroid_within(centroid, j_from_i, radius[i], radius[j])) return true;
+  warn_centroid_outside();
+  return false;
+}
+
+void PairPolyhedralVolumetric::warn_centroid_outside()
+{
   centroid_warning.raise(FLERR, "Pair polyhedral/volumetric: an overlap's centroid fell outside one of its two "
                                 "particles (a sliver thinner than the precision resolves); such overlaps are taken "
                                 "as no contact");
-  return false;
 }
 
 // Called by every rank at the end of each compute (CPU or GPU): the warnings any rank met, said on rank 0.

@@ -111,6 +111,7 @@ class PairPolyhedralVolumetric : public Pair {
   poly_degenerate_counts degenerate;
   EvaluationCounts evaluations;
   PolyhedralRankWarning inconsistent_warning, centroid_warning;
+  void warn_centroid_outside();
   void share_warnings();
   void count_degenerate(const poly_overlap_result &geometry);
   bool centroid_within(int i, int j, const poly_overlap_result &geometry);

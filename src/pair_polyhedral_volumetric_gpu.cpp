@@ -232,6 +232,7 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
   if (poly_gpu_compute(&settings, per_pair ? &results[0] : NULL, &num_contacts, message, sizeof message) != 0)
     gpu_error(message);
   device_history_newer = true;
+  if (poly_gpu_timings().centroid_outside > 0) warn_centroid_outside();  // the kernels' own, counted
 
   if (per_pair) {
     int **firstneigh = list->firstneigh;
