@@ -1,7 +1,8 @@
 /* A warning that any rank may meet in the middle of a step (a contact's overlap, a wall's contact slots).
- * LIGGGHTS' Error::warning writes only where the rank has a screen or a log file open, which is rank 0: the same
- * warning met on another rank was lost, and the wrong answer it reports went silent in parallel runs. Here a rank
- * raises the warning, and share() (collective) says it once, on rank 0, whichever rank met it. */
+ * LIGGGHTS' Error::warning writes to the rank's screen and log file; every rank has stdout as its screen (none
+ * with -screen none), but only rank 0 has the log file, so a warning met on another rank never reached the log
+ * (and was printed once per rank that met it). Here a rank raises the warning, and share() (collective) says it
+ * once, on rank 0's screen and log, whichever rank met it. */
 #ifndef POLYHEDRAL_WARNING_H
 #define POLYHEDRAL_WARNING_H
 
@@ -20,7 +21,7 @@ class PolyhedralRankWarning {
 
   // Met on this rank, at `file`:`where` (FLERR); `message` the text the warning will have (the lowest such rank's
   // is said, with its site).
-  void raise(const char *file, int where, const std::string &message)
+  void raise(const char *file, int where, const char *message)
   {
     if (raised()) return;
     pending = 1;

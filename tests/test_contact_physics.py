@@ -328,7 +328,6 @@ def test_cube_in_a_corner_of_a_non_convex_particle(run_deck, tmp_path):
             "group mobile type 1\nfix integrate mobile nve/polyhedron\n"
             f"fix gravity mobile gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\n"
             "variable x equal x[2]\nvariable z equal z[2]\nvariable y equal y[2]\n"
-            "compute contacts all pair/polyhedral/local\ncompute n all reduce sum c_contacts[1]\n"
             "thermo_style custom step v_x v_y v_z\nthermo_modify format float %.17g\nthermo 1000\n"
             "timestep 1e-5\nrun 30000\n")
     result = run_deck(deck)
