@@ -208,6 +208,7 @@ __device__ __forceinline__ void finish_pair(int p, const PairBodies &pair, const
   poly_contact_input input;
   input.volume = geometry.volume;
   input.depth = poly_contact_pair_depth(geometry.volume, geometry.depth, geometry.projected_area);
+  if (poly_contact_spots_facing_apart(geometry.volume, input.depth, geometry.area)) atomicAdd(counters + 6, 1);
   poly_matrix_apply(rotation_i, local_centroid, input.centroid);
   poly_matrix_apply(rotation_i, local_normal, input.normal);
   for (int k = 0; k < 3; k++) input.centroid[k] += state_i.position[k];
@@ -870,7 +871,7 @@ extern "C" int poly_gpu_init(int device, int num_shapes, const poly_shape *const
             upload_raw(&s.triangles, triangles, message, message_size) &&
             upload_raw(&s.edges, edges, message, message_size) &&
             upload_raw(&s.edge_triangles, edge_triangles, message, message_size) &&
-            ensure(state.counters, 6, message, message_size) &&
+            ensure(state.counters, 7, message, message_size) &&
             upload_clip_faces(num_shapes, shapes, message, message_size);
   if (!ok) return -1;
   state.ready = true;
@@ -953,12 +954,12 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
   double start = now();
   if (!check(cudaMemcpy(state.motion.data, state.host_motion.data, sizeof(poly_gpu_motion) * state.num_particles,
                         cudaMemcpyHostToDevice), "upload motion", message, message_size) ||
-      !check(cudaMemset(state.counters.data, 0, 6 * sizeof(int)), "cudaMemset", message, message_size))
+      !check(cudaMemset(state.counters.data, 0, 7 * sizeof(int)), "cudaMemset", message, message_size))
     return -1;
   double uploaded = now();
 
   const int threads = kThreads;
-  int counters[6] = {0, 0, 0, 0, 0, 0};
+  int counters[7] = {0, 0, 0, 0, 0, 0, 0};
   const bool want_results = results != NULL;
   bool ok = settings->precision == POLY_PRECISION_DOUBLE
                 ? narrow_phase<POLY_PRECISION_DOUBLE>(*settings, want_results, message, message_size)
@@ -975,10 +976,11 @@ extern "C" int poly_gpu_compute(const poly_gpu_settings *settings, poly_gpu_resu
   }
   if (!check(cudaDeviceSynchronize(), "contact kernel", message, message_size)) return -1;
   double computed = now();
-  if (!check(cudaMemcpy(counters, state.counters.data, 6 * sizeof(int), cudaMemcpyDeviceToHost), "download counters",
+  if (!check(cudaMemcpy(counters, state.counters.data, 7 * sizeof(int), cudaMemcpyDeviceToHost), "download counters",
              message, message_size))
     return -1;
   state.timing.centroid_outside += counters[5];
+  state.timing.spots_facing_apart += counters[6];
   if (results) {
     // The kept pairs' results and forces, each to its pair's place; the others have no contact.
     const int kept = state.num_kept;

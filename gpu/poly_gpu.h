@@ -127,6 +127,7 @@ typedef struct poly_gpu_timing {
   long kept;                     /* of the candidate pairs, those the pre-filter left to the contact kernels */
   long centroid_outside;         /* overlaps dropped as their centroid fell outside a particle (a sliver of rounding,
                                     poly_contact_centroid_within) */
+  long spots_facing_apart;       /* contacts at spots facing apart (poly_contact_spots_facing_apart) */
   double wall_seconds;           /* poly_gpu_wall_overlaps: pieces up, overlaps and nodes down */
   long wall_calls, wall_pieces;  /* its calls, and their pieces summed */
   long wall_handed_back;         /* pieces its lanes left to the one-thread kernel */

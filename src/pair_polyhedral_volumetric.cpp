@@ -611,12 +611,21 @@ void PairPolyhedralVolumetric::warn_centroid_outside()
                                 "as no contact");
 }
 
+void PairPolyhedralVolumetric::warn_spots_facing_apart()
+{
+  apart_spots_warning.raise(FLERR, "Pair polyhedral/volumetric: a pair touches at spots facing apart (a particle "
+                                   "wedged across a slot of one that is not convex?): one contact per pair takes "
+                                   "their spread as its depth, and its force is far too large there (the pair style's "
+                                   "page, Restrictions)");
+}
+
 // Called by every rank at the end of each compute (CPU or GPU): the warnings any rank met, said on rank 0.
 void PairPolyhedralVolumetric::share_warnings()
 {
   if (!PolyhedralRankWarning::due(lmp)) return;
   inconsistent_warning.share(lmp);
   centroid_warning.share(lmp);
+  apart_spots_warning.share(lmp);
 }
 
 void PairPolyhedralVolumetric::record_contacts(Compute *compute, bool on)
@@ -747,6 +756,7 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
 
       poly_contact_input input;
       const double depth = poly_contact_pair_depth(geometry.volume, geometry.depth, geometry.projected_area);
+      if (poly_contact_spots_facing_apart(geometry.volume, depth, geometry.area)) warn_spots_facing_apart();
       poly_contact_input_set_geometry(&input, geometry.volume, depth, geometry.normal, geometry.centroid);
       input.contact_area = geometry.projected_area;
       poly_contact_input_set_second_moment(&input, geometry.second_moment);

@@ -110,8 +110,9 @@ class PairPolyhedralVolumetric : public Pair {
   std::vector<PolyContactRecord> records;
   poly_degenerate_counts degenerate;
   EvaluationCounts evaluations;
-  PolyhedralRankWarning inconsistent_warning, centroid_warning;
+  PolyhedralRankWarning inconsistent_warning, centroid_warning, apart_spots_warning;
   void warn_centroid_outside();
+  void warn_spots_facing_apart();
   void share_warnings();
   void count_degenerate(const poly_overlap_result &geometry);
   bool centroid_within(int i, int j, const poly_overlap_result &geometry);

@@ -233,6 +233,7 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
     gpu_error(message);
   device_history_newer = true;
   if (poly_gpu_timings().centroid_outside > 0) warn_centroid_outside();  // the kernels' own, counted
+  if (poly_gpu_timings().spots_facing_apart > 0) warn_spots_facing_apart();
 
   if (per_pair) {
     int **firstneigh = list->firstneigh;

@@ -16,6 +16,7 @@ import decks
 from conftest import MPI_ENV, ROOT
 from test_mesh_walls import drum_deck
 from test_bad_input import check_settled_stack, settled_stack_deck
+from test_contact_physics import check_wedged_cube, wedged_cube_deck
 from test_pair_parallel import MATERIALS, particles, templates
 
 
@@ -343,6 +344,15 @@ def test_gpu_settled_deep_contacts_give_no_warning_at_a_later_run(run_deck, monk
     monkeypatch.setenv("POLY_GPU_MIN_PAIRS", "0")
     monkeypatch.setenv("POLY_GPU_MIN_PIECES", "0")
     check_settled_stack(run_deck(settled_stack_deck("polyhedral/volumetric/gpu")))
+
+
+@needs_gpu
+@pytest.mark.parametrize("shift, warnings", [(0.0, 1), (2e-6, 0)], ids=["both walls", "one wall"])
+def test_gpu_says_a_cube_wedged_across_the_slot(run_deck, tmp_path, monkeypatch, shift, warnings):
+    """test_contact_physics' wedged cube with the GPU style, its pair on the device: the kernels count contacts at
+    spots facing apart (poly_contact_spots_facing_apart) and the style says it once, as the host's does."""
+    monkeypatch.setenv("POLY_GPU_MIN_PAIRS", "0")
+    check_wedged_cube(run_deck(wedged_cube_deck(tmp_path, shift, "polyhedral/volumetric/gpu")), warnings)
 
 
 @needs_gpu
