@@ -58,7 +58,8 @@ struct State {
   DeviceArray<int> touching;        // compact list of pairs whose bounding spheres overlap
   DeviceArray<int> counters;        // [0] touching pairs, [1] contacts, [2] pairs the warp kernel handed back,
                                     // [3] touching pairs of shapes beyond the warp kernel's limits, [4] pairs kept,
-                                    // [5] overlaps whose centroid fell outside their particles (no contact)
+                                    // [5] overlaps whose centroid fell outside their particles (no contact),
+                                    // [6] contacts at spots facing apart (poly_contact_spots_facing_apart)
   DeviceArray<int> slot;            // per pair: its place in pair_force and results, -1 where the pre-filter
                                     // dropped it (most of a packed bed's pairs: no per-pair arrays for them)
   int num_kept;                     // pairs the last pre-filter kept: the size of pair_force and results

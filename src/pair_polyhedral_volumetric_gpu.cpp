@@ -229,11 +229,13 @@ void PairPolyhedralVolumetricGPU::compute(int eflag, int vflag)
   if (per_pair) results.resize(n > 0 ? n : 1);
   char message[256];
   int num_contacts = 0;
+  const poly_gpu_timing before = poly_gpu_timings();  // counts of the whole process: this call's are the difference
   if (poly_gpu_compute(&settings, per_pair ? &results[0] : NULL, &num_contacts, message, sizeof message) != 0)
     gpu_error(message);
   device_history_newer = true;
-  if (poly_gpu_timings().centroid_outside > 0) warn_centroid_outside();  // the kernels' own, counted
-  if (poly_gpu_timings().spots_facing_apart > 0) warn_spots_facing_apart();
+  const poly_gpu_timing after = poly_gpu_timings();
+  if (after.centroid_outside > before.centroid_outside) warn_centroid_outside();  // the kernels' own, counted
+  if (after.spots_facing_apart > before.spots_facing_apart) warn_spots_facing_apart();
 
   if (per_pair) {
     int **firstneigh = list->firstneigh;

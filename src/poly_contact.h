@@ -135,10 +135,11 @@ POLY_INLINE double poly_contact_pair_depth(double volume, double depth, double p
 /* Whether a particle pair's law depth (poly_contact_pair_depth) is many times its overlap's mean depth 3 V / S, S the
  * area of the first body's surface inside the second: spots whose normals face apart (a particle wedged across a
  * slot of one that is not convex), whose area vectors cancel, so that the cap leaves the spots' spread as the depth
- * and the force far above the spots' own, along what is left of A_vec. The ratio is at most S / A: a third for a
- * face on a face, 1.7 for a cube's corner, over 30 only for a tip whose faces lie within 2 degrees of the normal;
- * for two spots whose normals are theta apart 1 / cos(theta / 2), 30 at 176 degrees. Such a contact is not one the
- * method represents, and the pair styles say so. */
+ * and the force far above the spots' own, along what is left of A_vec. The cap makes the ratio at most S / A for
+ * every contact: about 1 for a face on a face (where the extent makes it a third), at most sqrt 3 for a cube's
+ * corner, over 30 for one spot only for a tip whose faces lie within 2 degrees of the normal (or a plate pushed
+ * edge-on deeper than about 45 times its thickness); for two spots whose normals are theta apart 1 / cos(theta / 2),
+ * 30 at 176 degrees. Such a contact is not one the method represents, and the pair styles say so. */
 #define POLY_CONTACT_SPOTS_APART 30.0
 POLY_INLINE int poly_contact_spots_facing_apart(double volume, double law_depth, double area)
 {

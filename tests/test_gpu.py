@@ -352,7 +352,10 @@ def test_gpu_says_a_cube_wedged_across_the_slot(run_deck, tmp_path, monkeypatch,
     """test_contact_physics' wedged cube with the GPU style, its pair on the device: the kernels count contacts at
     spots facing apart (poly_contact_spots_facing_apart) and the style says it once, as the host's does."""
     monkeypatch.setenv("POLY_GPU_MIN_PAIRS", "0")
-    check_wedged_cube(run_deck(wedged_cube_deck(tmp_path, shift, "polyhedral/volumetric/gpu")), warnings)
+    result = run_deck(wedged_cube_deck(tmp_path, shift, "polyhedral/volumetric/gpu"))
+    check_wedged_cube(result, warnings)
+    on_gpu, on_host, _ = gpu_summary(result.output)
+    assert on_gpu > 0 and on_host == 0, (on_gpu, on_host)
 
 
 @needs_gpu

@@ -8,10 +8,11 @@ hulls meets no pocket of either body, the overlap of the shapes is the overlap o
 would give it exactly. This prints, per shape, the hull, the pockets (the shape's triangles that lie on no hull facet,
 joined across their edges inside the hull; each pocket is covered by the convex hull of its triangles' corners) and,
 over N touching poses (B turned at random, moved towards A along a random direction until the hulls touch, then on
-by up to 1 % of the shape's size), the share of poses whose hull overlap meets no pocket: exactly (a linear
-programme on the half-spaces of both hulls and of the pocket's hull, with a margin of 1e-9 of the size) and by the
-cheap test a clipping path would run (some face plane of the other hull with every corner of the pocket in front of
-it). With --write-hulls, each shape's hull as an OBJ file (for timing a convex path on the hulls).
+by up to 1 % of the shape's size), the share of poses whose hull overlap meets no pocket's cover: by a linear
+programme on the half-spaces of both hulls and of the cover, with a margin of 1e-9 of the size (a lower bound where
+a pocket is not convex, as its cover then takes in some of the shape), and by the cheap test a clipping path would
+run (some face plane of the other hull with every corner of the pocket in front of it). With --write-hulls, each
+shape's hull as an OBJ file (for timing a convex path on the hulls). Reads STL (ASCII or binary), OBJ and OFF.
 """
 import argparse
 import pathlib
@@ -31,17 +32,36 @@ NOT_CONVEX = ["schoenhardt.stl", "rock_10.obj", "rock_20.obj", "rock_40.obj", "r
 def stl_corners(path):
     """The triangles' corners of an STL file, ASCII or binary, three a triangle."""
     data = path.read_bytes()
-    if data.lstrip().startswith(b"solid") and b"facet" in data[:1024]:
+    if len(data) < 84 or 84 + 50 * struct.unpack_from("<I", data, 80)[0] != len(data):  # not binary: ASCII
         return [tuple(float(w) for w in line.split()[1:4]) for line in data.decode().splitlines()
                 if line.split()[:1] == ["vertex"]]
     count = struct.unpack_from("<I", data, 80)[0]
     return [struct.unpack_from("<3f", data, 84 + 50 * t + 12 * (1 + c)) for t in range(count) for c in range(3)]
 
 
+def fan(corners, count, path):
+    """A polygon's corner indices (0-based) as triangles from its first corner."""
+    if len(corners) < 3 or min(corners) < 0 or max(corners) >= count:
+        raise SystemExit(f"hull_pocket_study: {path}: a face with fewer than 3 corners or one out of range")
+    return [[corners[0], corners[k], corners[k + 1]] for k in range(1, len(corners) - 1)]
+
+
 def read_mesh(path):
-    """Vertices and triangles of an STL (corners merged by their coordinates) or an OBJ."""
+    """Vertices and triangles of an STL (corners merged by their coordinates), an OBJ or an OFF file."""
     vertices, triangles = [], []
-    if path.suffix.lower() == ".stl":
+    if path.suffix.lower() == ".off":
+        words = [line.split("#")[0].split() for line in path.read_text().splitlines()]
+        words = [w for w in words if w]
+        if words[0][0].upper() != "OFF":
+            raise SystemExit(f"hull_pocket_study: {path}: not an OFF file")
+        counts = words[0][1:] if len(words[0]) > 1 else words[1]
+        first = 1 if len(words[0]) > 1 else 2
+        num_vertices, num_faces = int(counts[0]), int(counts[1])
+        vertices = [[float(w) for w in line[:3]] for line in words[first:first + num_vertices]]
+        for line in words[first + num_vertices:first + num_vertices + num_faces]:
+            n = int(line[0])
+            triangles += fan([int(w) for w in line[1:1 + n]], num_vertices, path)
+    elif path.suffix.lower() == ".stl":
         index, corners = {}, stl_corners(path)
         for start in range(0, len(corners), 3):
             triangle = []
@@ -52,12 +72,15 @@ def read_mesh(path):
                 triangle.append(index[corner])
             triangles.append(triangle)
     else:
+        faces = []
         for line in path.read_text().splitlines():
             words = line.split()
             if words and words[0] == "v":
                 vertices.append([float(w) for w in words[1:4]])
             elif words and words[0] == "f":
-                triangles.append([int(w.split("/")[0]) - 1 for w in words[1:4]])
+                faces.append([int(w.split("/")[0]) - 1 for w in words[1:]])
+        for corners in faces:
+            triangles += fan(corners, len(vertices), path)
     return np.array(vertices, dtype=float), np.array(triangles, dtype=int)
 
 
@@ -138,7 +161,7 @@ def study(path, poses, rng, write_hulls=None):
         exact += all(disjoint([hull.equations, b_planes, p], size) for p in pocket_planes + b_pockets)
         cheap += all(parted(vertices[p], b_planes, size) for p in pockets) and \
             all(parted(b_vertices[p], hull.equations, size) for p in pockets)
-    volume = sum(np.dot(vertices[a], np.cross(vertices[b], vertices[c])) for a, b, c in triangles) / 6.0
+    volume = abs(sum(np.dot(vertices[a], np.cross(vertices[b], vertices[c])) for a, b, c in triangles)) / 6.0
     print(f"| {path.name} | {len(triangles)} | {len(hull.simplices)} | {volume / hull.volume:.3f} | {num_recessed} | "
           f"{len(pockets)} ({', '.join(str(len(p)) for p in pockets)}) | {exact / poses:.3f} | {cheap / poses:.3f} |")
     return pockets, volume / hull.volume, exact / poses, cheap / poses
@@ -166,7 +189,7 @@ def main():
     rng = np.random.default_rng(args.seed)
     print(f"{args.poses} touching poses per shape (hulls overlapping by up to 1 % of the size), seed {args.seed}\n")
     print("| shape | triangles | hull facets | volume / hull's | triangles off the hull | pockets (corners) | "
-          "hull overlap meets no pocket: exactly | by the face planes' test |")
+          "hull overlap meets no pocket's cover | by the face planes' test |")
     print("|---|---:|---:|---:|---:|---|---:|---:|")
     for name in args.shapes:
         path = pathlib.Path(name)
