@@ -17,7 +17,9 @@
  * timing, as the wall makes them once per prism and step. Also prints what making a prism costs (each usable
  * triangle's, poly_mesh_shell_prism) and making its clip faces besides (poly_mesh_prism_clip_faces), in us, the
  * fastest of `repeats` passes over the mesh. Prints pieces, touching pieces, and pieces per second (median
- * of `repeats` timings of the whole set). */
+ * of `repeats` timings of the whole set); then what a touching piece and an apart piece cost apart (the median of
+ * `repeats` passes over each subset, the prisms' clip faces made beforehand), which says where the set's time
+ * goes. */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
 #include <stdio.h>
@@ -76,8 +78,9 @@ int main(int argc, char **argv)
     return 2;
   }
   int num_particles = argc > 2 ? atoi(argv[2]) : 2000, repeats = argc > 3 ? atoi(argv[3]) : 5;
-  printf("| shape | pieces | touching | pieces/s (double, one core) | prism (us) | its clip faces (us) |\n"
-         "|---|---:|---:|---:|---:|---:|\n");
+  printf("| shape | pieces | touching | pieces/s (double, one core) | prism (us) | its clip faces (us) | a touching "
+         "piece (us) | an apart piece (us) |\n"
+         "|---|---:|---:|---:|---:|---:|---:|---:|\n");
   const char *only = argc > 4 && strcmp(argv[4], "all") != 0 ? argv[4] : NULL;
   const int cells = argc > 5 ? atoi(argv[5]) : 12;
   if (cells < 1) {
@@ -162,28 +165,41 @@ int main(int argc, char **argv)
     const int has_wall_pieces = poly_shape_wall_pieces(&shape, &wall_pieces);
     poly_shape_view_d view = poly_shape_view_of(has_wall_pieces ? &wall_pieces : &shape);
     double *timings = malloc(sizeof(double) * (size_t)repeats);
+    unsigned char *touches = calloc((size_t)num_pieces, 1);
     int touching = 0;
-    for (int r = 0; r < repeats; r++) {
-      make_prisms(&shell, corners, num_triangles, 0, prisms, usable);  /* without clip faces */
-      touching = 0;
-      double start = now();
-      for (int p = 0; p < num_pieces; p++) {
-        poly_mesh_prism *prism = &prisms[piece_prism[p]];
-        const poly_shape_view_d *prism_view = poly_mesh_prism_view(prism, &view);
-        poly_pose prism_pose = {{prism->origin[0], prism->origin[1], prism->origin[2]}, {1.0, 0.0, 0.0, 0.0}};
-        poly_overlap_result result;
-        poly_overlap_d(&view, &particle_poses[p], prism_view, &prism_pose, &ws, &result);
-        if (result.volume > 0.0) {
-          touching++;
-          poly_overlap_nodes_d(&ws, &particle_poses[p], nodes, ws.capacity_corners);
+    double per_piece[3];  /* median seconds a piece: all (the prisms' clip faces made on the way), touching, apart */
+    for (int subset = 0; subset < 3; subset++) {
+      for (int r = 0; r < repeats; r++) {
+        /* The whole set makes each prism's clip faces when its first piece needs them, as the wall does once per
+         * prism and step; the subsets (touching pieces, apart ones) find them made. */
+        make_prisms(&shell, corners, num_triangles, subset > 0, prisms, usable);
+        int count = 0;
+        double start = now();
+        for (int p = 0; p < num_pieces; p++) {
+          if (subset > 0 && touches[p] != (subset == 1)) continue;
+          count++;
+          poly_mesh_prism *prism = &prisms[piece_prism[p]];
+          const poly_shape_view_d *prism_view = poly_mesh_prism_view(prism, &view);
+          poly_pose prism_pose = {{prism->origin[0], prism->origin[1], prism->origin[2]}, {1.0, 0.0, 0.0, 0.0}};
+          poly_overlap_result result;
+          poly_overlap_d(&view, &particle_poses[p], prism_view, &prism_pose, &ws, &result);
+          if (result.volume > 0.0) {
+            if (subset == 0) touches[p] = 1;
+            poly_overlap_nodes_d(&ws, &particle_poses[p], nodes, ws.capacity_corners);
+          }
         }
+        timings[r] = (now() - start) / (count > 0 ? count : 1);
+        if (subset == 0) touching = 0;
+        for (int p = 0; subset == 0 && p < num_pieces; p++) touching += touches[p];
       }
-      timings[r] = now() - start;
+      qsort(timings, (size_t)repeats, sizeof(double), by_value);
+      per_piece[subset] = timings[repeats / 2];
     }
-    qsort(timings, (size_t)repeats, sizeof(double), by_value);
-    printf("| %s | %d | %d | %.3g | %.2f | %.2f |\n", SHAPE_FILES[s], num_pieces, touching,
-           num_pieces / timings[repeats / 2], 1e6 * prism_time, 1e6 * (clip_time - prism_time));
+    printf("| %s | %d | %d | %.3g | %.2f | %.2f | %.2f | %.2f |\n", SHAPE_FILES[s], num_pieces, touching,
+           1.0 / per_piece[0], 1e6 * prism_time, 1e6 * (clip_time - prism_time), 1e6 * per_piece[1],
+           1e6 * per_piece[2]);
     fflush(stdout);
+    free(touches);
     free(timings);
     free(nodes);
     poly_overlap_workspace_destroy_d(&ws);
