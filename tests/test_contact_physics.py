@@ -298,6 +298,22 @@ def channel_obj():
     return "\n".join(lines + [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in faces]) + "\n"
 
 
+def channel_and_cube_deck(tmp_path, edge, x, z, youngs, poisson, friction, pair="polyhedral/volumetric"):
+    """The deck's start: the U-channel (1 cm to its unit, frozen unless the caller integrates it) lying as written,
+    and a cube of `edge` at (x, 0, z), both of density 2500."""
+    (tmp_path / "channel.obj").write_text(channel_obj())
+    scale = 0.01
+    return (decks.header(boundary="f f f", lo=-0.05, hi=0.05, ntypes=2) +
+            "neighbor 0.002 bin\nneigh_modify delay 0\n" +
+            decks.materials(youngs=str(youngs), poisson=poisson, friction=friction) +
+            decks.template("block", "cube.stl", scale=edge, density=2500.0, atom_type=1) +
+            "fix support all particletemplate/polyhedron 32452843 atom_type 2 density constant 2500 "
+            f"file {tmp_path / 'channel.obj'} scale {scale}\n"
+            f"pair_style {pair}\npair_coeff * *\n"
+            f"create_polyhedron support 0 0 {CHANNEL_CENTRE_Z * scale!r}\n"
+            f"create_polyhedron block {x!r} 0 {z!r}\n")
+
+
 def test_cube_in_a_corner_of_a_non_convex_particle(run_deck, tmp_path):
     """A 5 mm cube pressed by gravity at 45 degrees into the inner corner of a frozen U-channel (a non-convex
     particle, 1 cm to its unit): two face-on-face spots, the slot's floor and its wall, of one pair, so one
@@ -310,21 +326,12 @@ def test_cube_in_a_corner_of_a_non_convex_particle(run_deck, tmp_path):
     the sum of the spots' own). The cube must rest there, within 1 %, pushed equally into floor and wall.
     Frictionless: with friction the landing's tangential springs leave the cube twisted about the normal by 4e-5
     rad (one contact has no twisting spring), enough to lift an edge of each face off at these depths."""
-    (tmp_path / "channel.obj").write_text(channel_obj())
     scale, edge, density, youngs, poisson = 0.01, 0.005, 2500.0, 1e7, 0.25
     floor, wall = 0.75 * scale, 1.0 * scale  # the slot's floor (base at z = 0) and its wall at +x
     # touching both: the cube's faces on the floor and on the wall
     cube_x, cube_z = wall - edge / 2, floor + edge / 2
     tilt = math.radians(45.0)
-    deck = (decks.header(boundary="f f f", lo=-0.05, hi=0.05, ntypes=2) +
-            "neighbor 0.002 bin\nneigh_modify delay 0\n" +
-            decks.materials(youngs=str(youngs), poisson=poisson, friction=0.0) +
-            decks.template("block", "cube.stl", scale=edge, density=density, atom_type=1) +
-            "fix support all particletemplate/polyhedron 32452843 atom_type 2 density constant 2500 "
-            f"file {tmp_path / 'channel.obj'} scale {scale}\n"
-            "pair_style polyhedral/volumetric\npair_coeff * *\n"
-            f"create_polyhedron support 0 0 {CHANNEL_CENTRE_Z * scale!r}\n"
-            f"create_polyhedron block {cube_x!r} 0 {cube_z!r}\n"
+    deck = (channel_and_cube_deck(tmp_path, edge, cube_x, cube_z, youngs, poisson, friction=0.0) +
             "group mobile type 1\nfix integrate mobile nve/polyhedron\n"
             f"fix gravity mobile gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\n"
             "variable x equal x[2]\nvariable z equal z[2]\nvariable y equal y[2]\n"
@@ -364,19 +371,10 @@ def test_cube_in_a_corner_of_a_non_convex_particle(run_deck, tmp_path):
 def wedged_cube_deck(tmp_path, shift, pair="polyhedral/volumetric"):
     """A cube 2 um wider than the channel's 2 cm slot, across it and `shift` sideways, above the slot's floor; the
     channel frozen, 3 steps."""
-    (tmp_path / "channel.obj").write_text(channel_obj())
     scale, slot = 0.01, 0.02
     edge = slot * (1.0 + 1e-4)
-    return (decks.header(boundary="f f f", lo=-0.05, hi=0.05, ntypes=2) +
-            "neighbor 0.002 bin\nneigh_modify delay 0\n" +
-            decks.materials(youngs="1e7", poisson=0.25, friction=0.5) +
-            decks.template("block", "cube.stl", scale=edge, density=2500.0, atom_type=1) +
-            "fix support all particletemplate/polyhedron 32452843 atom_type 2 density constant 2500 "
-            f"file {tmp_path / 'channel.obj'} scale {scale}\n"
-            f"pair_style {pair}\npair_coeff * *\ncompute pairs all pair/polyhedral/local\n"
-            f"create_polyhedron support 0 0 {CHANNEL_CENTRE_Z * scale!r}\n"
-            f"create_polyhedron block {shift!r} 0 {0.8 * scale + edge / 2!r}\n"
-            "thermo_style custom step c_pairs\nthermo 1\ntimestep 1e-6\nrun 3\n")
+    return (channel_and_cube_deck(tmp_path, edge, shift, 0.8 * scale + edge / 2, 1e7, 0.25, 0.5, pair) +
+            "compute pairs all pair/polyhedral/local\nthermo_style custom step c_pairs\nthermo 1\ntimestep 1e-6\nrun 3\n")
 
 
 def check_wedged_cube(result, warnings):

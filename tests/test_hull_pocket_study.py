@@ -15,7 +15,7 @@ SHAPES = ROOT / "examples" / "shapes"
 
 
 def test_schoenhardt_pockets_are_its_three_tetrahedra():
-    vertices, triangles = study.read_mesh(SHAPES / "schoenhardt.stl")
+    vertices, triangles = (np.array(a) for a in study.read_mesh(SHAPES / "schoenhardt.stl"))
     hull = ConvexHull(vertices)
     pockets, num_recessed = study.pockets_of(vertices, triangles, hull, float(np.ptp(vertices, axis=0).max()))
     assert num_recessed == 6

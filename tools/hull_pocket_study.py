@@ -12,11 +12,10 @@ by up to 1 % of the shape's size), the share of poses whose hull overlap meets n
 programme on the half-spaces of both hulls and of the cover, with a margin of 1e-9 of the size (a lower bound where
 a pocket is not convex, as its cover then takes in some of the shape), and by the cheap test a clipping path would
 run (some face plane of the other hull with every corner of the pocket in front of it). With --write-hulls, each
-shape's hull as an OBJ file (for timing a convex path on the hulls). Reads STL (ASCII or binary), OBJ and OFF.
+shape's hull as an OBJ file (for timing a convex path on the hulls). Reads what tools/shape_files.py reads.
 """
 import argparse
 import pathlib
-import struct
 import sys
 
 import numpy as np
@@ -24,64 +23,11 @@ from scipy.optimize import linprog
 from scipy.spatial import ConvexHull
 from scipy.spatial.transform import Rotation
 
+from shape_files import read_mesh
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SHAPES = ROOT / "examples" / "shapes"
 NOT_CONVEX = ["schoenhardt.stl", "rock_10.obj", "rock_20.obj", "rock_40.obj", "rock_70.obj"]
-
-
-def stl_corners(path):
-    """The triangles' corners of an STL file, ASCII or binary, three a triangle."""
-    data = path.read_bytes()
-    if len(data) < 84 or 84 + 50 * struct.unpack_from("<I", data, 80)[0] != len(data):  # not binary: ASCII
-        return [tuple(float(w) for w in line.split()[1:4]) for line in data.decode().splitlines()
-                if line.split()[:1] == ["vertex"]]
-    count = struct.unpack_from("<I", data, 80)[0]
-    return [struct.unpack_from("<3f", data, 84 + 50 * t + 12 * (1 + c)) for t in range(count) for c in range(3)]
-
-
-def fan(corners, count, path):
-    """A polygon's corner indices (0-based) as triangles from its first corner."""
-    if len(corners) < 3 or min(corners) < 0 or max(corners) >= count:
-        raise SystemExit(f"hull_pocket_study: {path}: a face with fewer than 3 corners or one out of range")
-    return [[corners[0], corners[k], corners[k + 1]] for k in range(1, len(corners) - 1)]
-
-
-def read_mesh(path):
-    """Vertices and triangles of an STL (corners merged by their coordinates), an OBJ or an OFF file."""
-    vertices, triangles = [], []
-    if path.suffix.lower() == ".off":
-        words = [line.split("#")[0].split() for line in path.read_text().splitlines()]
-        words = [w for w in words if w]
-        if words[0][0].upper() != "OFF":
-            raise SystemExit(f"hull_pocket_study: {path}: not an OFF file")
-        counts = words[0][1:] if len(words[0]) > 1 else words[1]
-        first = 1 if len(words[0]) > 1 else 2
-        num_vertices, num_faces = int(counts[0]), int(counts[1])
-        vertices = [[float(w) for w in line[:3]] for line in words[first:first + num_vertices]]
-        for line in words[first + num_vertices:first + num_vertices + num_faces]:
-            n = int(line[0])
-            triangles += fan([int(w) for w in line[1:1 + n]], num_vertices, path)
-    elif path.suffix.lower() == ".stl":
-        index, corners = {}, stl_corners(path)
-        for start in range(0, len(corners), 3):
-            triangle = []
-            for corner in corners[start:start + 3]:
-                if corner not in index:
-                    index[corner] = len(vertices)
-                    vertices.append(corner)
-                triangle.append(index[corner])
-            triangles.append(triangle)
-    else:
-        faces = []
-        for line in path.read_text().splitlines():
-            words = line.split()
-            if words and words[0] == "v":
-                vertices.append([float(w) for w in words[1:4]])
-            elif words and words[0] == "f":
-                faces.append([int(w.split("/")[0]) - 1 for w in words[1:]])
-        for corners in faces:
-            triangles += fan(corners, len(vertices), path)
-    return np.array(vertices, dtype=float), np.array(triangles, dtype=int)
 
 
 def pockets_of(vertices, triangles, hull, size):
@@ -130,7 +76,7 @@ def parted(corners, planes, size):
 def study(path, poses, rng, write_hulls=None):
     """The table's row for the shape at `path`; returns (pockets' corner lists, volume / hull's, the exact and the
     face planes' shares of `poses` touching poses whose hull overlap meets no pocket)."""
-    vertices, triangles = read_mesh(path)
+    vertices, triangles = (np.array(a) for a in read_mesh(path))
     vertices = vertices - vertices.mean(axis=0)
     size = float(np.ptp(vertices, axis=0).max())
     hull = ConvexHull(vertices)
