@@ -108,8 +108,13 @@ install: all
 	install -m 755 $(LIBRARY) $(DESTDIR)$(PREFIX)/lib/
 	install -m 755 $(LAUNCHER) $(DESTDIR)$(PREFIX)/bin/
 
+# The suite's files on TEST_JOBS processes (pytest-xdist, whole files to a process: their fixtures are per file),
+# or one after the other where xdist is missing.
+TEST_JOBS ?= 2
+TEST_XDIST = $(shell /usr/bin/python3 -c 'import xdist' 2>/dev/null && printf '%s' '-n $(TEST_JOBS) --dist loadfile')
+
 test: all
-	/usr/bin/python3 -m pytest -q tests
+	/usr/bin/python3 -m pytest -q $(TEST_XDIST) tests
 
 example: all
 	cd examples/hopper && /usr/bin/python3 run.py

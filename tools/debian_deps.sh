@@ -5,6 +5,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 packages=(liggghts libliggghts-dev libopenmpi-dev openmpi-bin make g++ gcc binutils
           python3 python3-numpy python3-scipy python3-matplotlib python3-pytest
+          python3-pytest-xdist                  # make test: the suite's files on two processes
           python3-paraview xvfb xauth    # ParaView's Python under Xvfb: tools/render_scene.py
           libcgal-dev libgmp-dev libmpfr-dev    # test only: the exact overlap reference (tests/test_exact_reference.py)
           liggghts-doc)                         # test only: LIGGGHTS' tutorial meshes (tests/test_tutorial_decks.py)
