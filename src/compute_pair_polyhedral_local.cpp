@@ -62,7 +62,7 @@ ComputePairPolyhedralLocal::ComputePairPolyhedralLocal(LAMMPS *lmp, int &iarg, i
   timeflag = 1;  // output schedules the steps; the pair style records contacts only then
   extscalar = 1;
   vector_flag = 1;  // statistics of degenerate contacts and of the pair loop's evaluations, since pair_style
-  size_vector = 10;
+  size_vector = 11;
   extvector = 1;
   vector = statistics;
   size_local_cols = kColumns;
@@ -136,16 +136,18 @@ double ComputePairPolyhedralLocal::compute_scalar()
 // skipped by their parting plane, and evaluated into a contact, apart by the
 // slab or a parting plane, apart after the whole path; 9: of the contacts, those
 // evaluated from their certified crossings (crossing_cache); 10: of the near misses,
-// those evaluated from their certified empty search; since the pair style was
-// defined, summed over ranks.
+// those evaluated from their certified empty search; 11: of the contacts, those whose
+// extent is over 1.001 times their law depth 3 V / A (several spots); since the pair
+// style was defined, summed over ranks.
 void ComputePairPolyhedralLocal::compute_vector()
 {
   invoked_vector = update->ntimestep;
   const poly_degenerate_counts &counts = pair->degenerate_counts();
   const PairPolyhedralVolumetric::EvaluationCounts &loop = pair->evaluation_counts();
-  double mine[10] = {counts.smoothed, counts.recomputed, counts.inconsistent, loop.candidates,  loop.hinted,
-                     loop.contacts,   loop.parted,      loop.near_misses,    loop.from_cache, loop.misses_from_cache};
-  MPI_Allreduce(mine, statistics, 10, MPI_DOUBLE, MPI_SUM, world);
+  double mine[11] = {counts.smoothed, counts.recomputed, counts.inconsistent, loop.candidates,  loop.hinted,
+                     loop.contacts,   loop.parted,      loop.near_misses,    loop.from_cache, loop.misses_from_cache,
+                     loop.capped};
+  MPI_Allreduce(mine, statistics, 11, MPI_DOUBLE, MPI_SUM, world);
 }
 
 double ComputePairPolyhedralLocal::memory_usage()

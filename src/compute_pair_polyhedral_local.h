@@ -35,7 +35,7 @@ class ComputePairPolyhedralLocal : public Compute {
  private:
   class PairPolyhedralVolumetric *pair;
   int capacity;
-  double statistics[10];
+  double statistics[11];
   void require_current_records();
 };
 

@@ -41,7 +41,7 @@ PairPolyhedralVolumetric::PairPolyhedralVolumetric(LAMMPS *lmp)
 {
   degenerate.smoothed = degenerate.recomputed = degenerate.inconsistent = 0.0;
   evaluations.candidates = evaluations.hinted = evaluations.contacts = evaluations.parted = 0.0;
-  evaluations.near_misses = evaluations.from_cache = evaluations.misses_from_cache = 0.0;
+  evaluations.near_misses = evaluations.from_cache = evaluations.misses_from_cache = evaluations.capped = 0.0;
   single_enable = 0;
   restartinfo = 1;
   no_virial_fdotr_compute = 1;
@@ -756,6 +756,8 @@ void PairPolyhedralVolumetric::compute(int eflag, int vflag)
 
       poly_contact_input input;
       const double depth = poly_contact_pair_depth(geometry.volume, geometry.depth, geometry.projected_area);
+      // Several spots: the extent well above the cap (single precision's rounding alone takes up to 1e-4 of it).
+      if (geometry.depth > 1.001 * depth) evaluations.capped++;
       if (poly_contact_spots_facing_apart(geometry.volume, depth, geometry.area)) warn_spots_facing_apart();
       poly_contact_input_set_geometry(&input, geometry.volume, depth, geometry.normal, geometry.centroid);
       input.contact_area = geometry.projected_area;

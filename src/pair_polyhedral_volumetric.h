@@ -62,6 +62,7 @@ class PairPolyhedralVolumetric : public Pair {
     double candidates, hinted, contacts, parted, near_misses;
     double from_cache;  // contacts evaluated from their certified crossings (crossing_cache)
     double misses_from_cache;  // near misses evaluated from their certified (empty) search
+    double capped;  // contacts whose extent is over 1.001 times their law depth 3 V / A: several spots
   };
   const EvaluationCounts &evaluation_counts() const { return evaluations; }
 

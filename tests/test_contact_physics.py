@@ -335,12 +335,14 @@ def test_cube_in_a_corner_of_a_non_convex_particle(run_deck, tmp_path):
             "group mobile type 1\nfix integrate mobile nve/polyhedron\n"
             f"fix gravity mobile gravity 9.81 vector {math.sin(tilt)!r} 0 {-math.cos(tilt)!r}\n"
             "variable x equal x[2]\nvariable z equal z[2]\nvariable y equal y[2]\n"
-            "thermo_style custom step v_x v_y v_z\nthermo_modify format float %.17g\nthermo 1000\n"
-            "timestep 1e-5\nrun 30000\n")
+            "compute pairs all pair/polyhedral/local\nvariable contacts equal c_pairs[6]\n"
+            "variable capped equal c_pairs[11]\n"
+            "thermo_style custom step v_x v_y v_z v_contacts v_capped\nthermo_modify format float %.17g\n"
+            "thermo 1000\ntimestep 1e-5\nrun 30000\n")
     result = run_deck(deck)
     assert result.returncode == 0, result.output[-3000:]
     assert not result.warning_lines(), result.warning_lines()
-    table = result.thermo("Step", "v_x", "v_y", "v_z")
+    table = result.thermo("Step", "v_x", "v_y", "v_z", "v_contacts", "v_capped")
     into_wall = np.array(table["v_x"]) - cube_x
     into_floor = cube_z - np.array(table["v_z"])
     settled = np.array(table["Step"]) >= 20000
@@ -366,6 +368,11 @@ def test_cube_in_a_corner_of_a_non_convex_particle(run_deck, tmp_path):
     assert abs(into_floor[settled].mean() / expected - 1) < 0.01, into_floor[settled].mean()
     assert abs(depth / separate - 0.486) < 0.01
     assert np.abs(np.array(table["v_y"])).max() < 1e-12
+    # compute pair/polyhedral/local counts the contacts whose depth the cap took (its element 11): at rest in the
+    # corner, every evaluation's (two spots), as many as the contacts (6) evaluated meanwhile.
+    contacts, capped = np.array(table["v_contacts"]), np.array(table["v_capped"])
+    print(f"contacts evaluated {contacts[-1]:.0f}, of them with the depth capped {capped[-1]:.0f}")
+    assert capped[-1] - capped[settled][0] == contacts[-1] - contacts[settled][0] > 9000
 
 
 def wedged_cube_deck(tmp_path, shift, pair="polyhedral/volumetric"):

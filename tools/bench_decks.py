@@ -425,10 +425,14 @@ def bench_chute(a, workdir):
 
 
 # Appended to a converted deck after its schedule: the pair loop's evaluation statistics (compute
-# pair/polyhedral/local's vector 4-10) printed by one `run 0`, which the timed runs before it do not see.
+# pair/polyhedral/local's vector 4-10) printed by one `run 0`, which the timed runs before it do not see; then, by a
+# second, the contacts whose depth is capped at 3 V / A (11: several spots; a build before it stops there).
 EVALUATIONS = """
 compute ev all pair/polyhedral/local
 thermo_style custom step atoms c_ev[4] c_ev[5] c_ev[6] c_ev[7] c_ev[8] c_ev[9] c_ev[10]
+thermo_modify format float %.10g
+run 0
+thermo_style custom step atoms c_ev[6] c_ev[11]
 thermo_modify format float %.10g
 run 0
 """
@@ -447,14 +451,20 @@ def evaluation_breakdown(log_text):
             if candidates <= 0:
                 return None
             share = lambda n: f"{100 * n / candidates:.1f} %"
+            # (contacts, of them capped) of the second run 0, which evaluated the pairs once more
+            capped = next(((float(after.split()[2]), float(after.split()[3]))
+                           for before, after in zip(lines[k + 2:], lines[k + 3:])
+                           if "ev[11]" in before and before.split()[:1] == ["Step"] and len(after.split()) > 3), None)
             return (f"the rocks' neighbour pairs in reach of each other, summed over the steps: {candidates:.4g}; "
                     f"skipped as still apart (within their gap, or behind the plane that parted them) {share(hinted)}, "
                     f"evaluated into a contact {share(contacts)}, found apart by the slab or a parting plane "
                     f"{share(parted)}, found apart "
                     f"by the whole path (near misses) {share(misses)}; from the crossing cache "
                     f"{100 * cached / max(contacts, 1):.1f} % of the contacts and "
-                    f"{100 * cached_misses / max(misses, 1):.1f} % of the near misses "
-                    f"(compute pair/polyhedral/local's vector)")
+                    f"{100 * cached_misses / max(misses, 1):.1f} % of the near misses" +
+                    ("" if capped is None else
+                     f"; their depth capped at 3 V / A (several spots) {100 * capped[1] / max(capped[0], 1):.1f} % "
+                     "of the contacts") + " (compute pair/polyhedral/local's vector)")
     return None
 
 
