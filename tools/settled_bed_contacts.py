@@ -10,8 +10,8 @@ spots a particle size apart is one contact whose extent along its normal is the 
 force, which grows with sqrt(V delta), was that of a one-spot contact 1e-5 m deep with delta / 1e-5 m times its
 volume while the depth was the extent (723 of 5385 contacts above 1 %, up to 12 mm deep). The depth is now at
 most 3 V / A (doc/pair_polyhedral_volumetric.md, Depth), and none is above 1 %. Also prints how many contact
-evaluations had their depth so capped (compute pair/polyhedral/local's 11th element: pairs touching at several
-spots), over the set-ups of in.packing's runs and its step."""
+evaluations had their depth so capped, their extent over 1.001 times 3 V / A (compute pair/polyhedral/local's 11th
+element: pairs touching at several spots), over the set-ups of in.packing's runs and its step."""
 import os
 import pathlib
 import statistics
@@ -24,7 +24,8 @@ BOUNDING_DIAMETER = 2 * 0.0186287969  # schoenhardt.stl at in.packing's scale (t
 
 
 def main():
-    launcher = str(pathlib.Path(sys.argv[1]).resolve()) if len(sys.argv) > 1 else str(ROOT / "build" / "bin" / "liggghts-poly")
+    default = ROOT / "build" / "bin" / "liggghts-poly"
+    launcher = str(pathlib.Path(sys.argv[1]).resolve() if len(sys.argv) > 1 else default)
     precision = sys.argv[2] if len(sys.argv) > 2 else "double"
     deck = (ROOT / "examples" / "gravity_packing" / "in.packing").read_text()
     run = 'if "${split} > 0" then'
@@ -32,7 +33,7 @@ def main():
     deck = deck.replace(run, "dump contacts all local 1 contacts.txt c_pairs[1] c_pairs[2] c_pairs[3] c_pairs[4]\n"
                              "dump_modify contacts first yes\n" + run)
     # compute pair/polyhedral/local's counts since the pair style was defined (evaluations of the two runs'
-    # set-ups and the step): contacts evaluated (6) and those whose depth is 3 V / A (11, several spots).
+    # set-ups and the step): contacts evaluated (6) and those whose depth the cap 3 V / A took (11, several spots).
     deck += ("undump contacts\nvariable evals equal c_pairs[6]\nvariable capped equal c_pairs[11]\n"
              "thermo_style custom step v_evals v_capped\nrun 0\n")
     with tempfile.TemporaryDirectory() as work:
@@ -57,8 +58,9 @@ def main():
     print(f"settled bed, {precision}, step {lines[start + 1]}: {len(rows)} contacts, median volume "
           f"{statistics.median(r[2] for r in rows):.3g} m^3, median depth "
           f"{statistics.median(r[3] for r in rows):.3g} m")
-    print(f"contacts whose depth is 3 V / A, not their extent (several spots; compute pair/polyhedral/local's 11th "
-          f"element): {capped:.0f} of {evaluated:.0f} contact evaluations ({100 * capped / evaluated:.1f} %)")
+    print(f"contacts whose extent is over 1.001 times their depth 3 V / A (several spots; compute "
+          f"pair/polyhedral/local's 11th element): {capped:.0f} of {evaluated:.0f} contact evaluations "
+          f"({100 * capped / evaluated:.1f} %)")
     if deep:
         print(f"{len(deep)} deeper than 1 % of the bounding diameter: depths {min(r[3] for r in deep):.3g} to "
               f"{max(r[3] for r in deep):.3g} m, volumes median {statistics.median(r[2] for r in deep):.3g} m^3; "
