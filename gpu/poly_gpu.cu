@@ -690,7 +690,7 @@ static int read_count(const char *name, long fallback, long *out, char *message,
 extern "C" int poly_gpu_environment(poly_gpu_options *options, char *message, size_t message_size)
 {
   const char *kernels[2] = {"thread", "warp"}, *lanes[3] = {"8", "16", "32"};
-  const char *clip_precisions[2] = {"single", "double"};
+  const char *clip_precisions[2] = {"single", "double"}, *carveouts[2] = {"tight", "driver"};
   const int kernel_values[2] = {1, 2}, lane_values[3] = {8, 16, 32};
   if (read_choice("POLY_GPU_PAIR_KERNEL", kernels, kernel_values, 2, "thread or warp", &options->pair_kernel, message,
                   message_size) ||
@@ -701,6 +701,8 @@ extern "C" int poly_gpu_environment(poly_gpu_options *options, char *message, si
       read_choice("POLY_GPU_CLIP_KERNEL", kernels, kernel_values, 2, "thread or warp", &options->clip_kernel, message,
                   message_size) ||
       read_choice("POLY_GPU_MIXED_CLIP", clip_precisions, kernel_values, 2, "single or double", &options->mixed_clip,
+                  message, message_size) ||
+      read_choice("POLY_GPU_CLIP_CARVEOUT", carveouts, kernel_values, 2, "tight or driver", &options->clip_carveout,
                   message, message_size) ||
       read_count("POLY_GPU_MIN_PAIRS", POLY_GPU_DEFAULT_MIN_PAIRS, &options->min_pairs, message, message_size) ||
       read_count("POLY_GPU_MIN_PIECES", POLY_GPU_DEFAULT_MIN_PIECES, &options->min_pieces, message, message_size))
@@ -793,6 +795,17 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
                                    (int)(POLY_CLIP_WARPS * single.bytes)), "cudaFuncSetAttribute", message,
               message_size)))
     return false;
+  if (state.any_pieces && state.options.clip_carveout != 2) {  // POLY_GPU_CLIP_CARVEOUT=driver leaves it as it was
+    const int carveout_d = clip_warp_carveout(POLY_CLIP_WARPS * limits.bytes + reserved_per_block, shared_per_sm),
+              carveout_f = clip_warp_carveout(POLY_CLIP_WARPS * single.bytes + reserved_per_block, shared_per_sm);
+    if ((carveout_d >= 0 &&
+         !check(cudaFuncSetAttribute(clip_warp_kernel<double>, cudaFuncAttributePreferredSharedMemoryCarveout,
+                                     carveout_d), "cudaFuncSetAttribute", message, message_size)) ||
+        (carveout_f >= 0 &&
+         !check(cudaFuncSetAttribute(clip_warp_kernel<float>, cudaFuncAttributePreferredSharedMemoryCarveout,
+                                     carveout_f), "cudaFuncSetAttribute", message, message_size)))
+      return false;
+  }
   std::vector<poly_clip_faces> clip(num_shapes);
   for (int i = 0; i < num_shapes; i++) {
     poly_clip_faces &f = clip[i];

@@ -50,7 +50,7 @@ struct ClipWarpMemory {
   float *xb_f, *planes_b_f;   /* with limits.single */
   poly_clip_mask *ahead_a, *behind_a, *ahead_b, *behind_b;
   poly_clip_mask *piece_ahead_a, *piece_behind_a, *piece_ahead_b, *piece_behind_b;
-  int *items;
+  unsigned short *items;  /* clip_item codes: faces below 128, pieces below POLY_CLIP_MAX_PIECES (32) */
   poly_clip_result *results;  /* the warp's pairs' overlaps, for the contact law on a lane each */
 };
 
@@ -62,7 +62,7 @@ static __host__ __device__ inline size_t clip_warp_layout(ClipWarpMemory *m, cha
   size_t masks = 4 * points + 4 * (size_t)limits.pieces;
   size_t floats = limits.single ? 3 * points + 4 * (size_t)limits.planes : 0;
   size_t bytes = sizeof(double) * doubles + sizeof(poly_clip_mask) * masks + sizeof(float) * floats +
-                 sizeof(int) * POLY_CLIP_WARP_ITEMS;
+                 sizeof(unsigned short) * POLY_CLIP_WARP_ITEMS;
   bytes = (bytes + 15) / 16 * 16;
   const size_t results_at = bytes;
   bytes += sizeof(poly_clip_result) * limits.pairs;
@@ -84,7 +84,7 @@ static __host__ __device__ inline size_t clip_warp_layout(ClipWarpMemory *m, cha
   float *f = (float *)d;
   m->xb_f = f; f += limits.single ? 3 * points : 0;
   m->planes_b_f = f; f += limits.single ? 4 * (size_t)limits.planes : 0;
-  m->items = (int *)f;
+  m->items = (unsigned short *)f;
   m->results = (poly_clip_result *)(memory + results_at);
   return bytes;
 }
@@ -102,6 +102,26 @@ static inline void clip_warp_pairs(ClipWarpLimits *limits, size_t shared_per_sm,
     const size_t block = POLY_CLIP_WARPS * limits->bytes + reserved_per_block;
     if (limits->pairs == 1 || POLY_CLIP_WARP_MIN_BLOCKS * block <= shared_per_sm / 2) return;
   }
+}
+
+/* The carveout (percent of `shared_per_sm`, the SM's shared memory at most) for blocks of `block` bytes: the smallest
+ * of the SM's shared-memory configurations that holds POLY_CLIP_WARP_MIN_BLOCKS of them, so that the rest is L1
+ * cache for the lanes' local memory, which the kernel waits on; left to the driver, the Schoenhardt bed mix's blocks
+ * (4 x 25.2 KB) got 132 KB of shared memory instead of 100, and its pairs ran 5 % slower (doc/benchmarks.md). The
+ * configurations are those of compute capability 8.x and 9.0 (CUDA C++ Programming Guide: 0, 8, 16, 32, 64, 100,
+ * 132, 164, 196, 228 KB, up to the SM's); the percent is rounded down, since the driver takes the smallest
+ * configuration at least that share (as measured), and no two are within 1 % of 228 KB of each other. -1 (the
+ * driver's choice) where none holds the blocks. */
+static inline int clip_warp_carveout(size_t block, size_t shared_per_sm)
+{
+  static const int kilobytes[] = {8, 16, 32, 64, 100, 132, 164, 196, 228};
+  const size_t needed = POLY_CLIP_WARP_MIN_BLOCKS * block;
+  for (int k = 0; k < (int)(sizeof kilobytes / sizeof kilobytes[0]); k++) {
+    const size_t config = (size_t)kilobytes[k] * 1024;
+    if (config > shared_per_sm) break;
+    if (config >= needed) return (int)(100 * config / shared_per_sm);
+  }
+  return -1;
 }
 
 /* Item: a face of one body, which body (of_a), and the other body's piece that clips it. */
@@ -264,7 +284,7 @@ static __device__ int clip_warp_overlap(const poly_clip_faces &a, const poly_cli
     const int total = __shfl_sync(full, before, 31);
     before -= faces_b + faces_a;
     if (num_items + total > POLY_CLIP_WARP_ITEMS) return 1;
-    int *slot = m.items + num_items + before;
+    unsigned short *slot = m.items + num_items + before;
     if (meet && !b.face_plane) {
       for (int t = 0; t < faces_b; t++) slot[t] = clip_item(b.piece_faces[b.piece_face_start[j] + t], 0, i);
       slot += faces_b;
