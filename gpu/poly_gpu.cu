@@ -635,6 +635,11 @@ WarpLimits poly_gpu_detail::warp_limits(int precision, int min_vertices, int min
                                                                                     min_edges);
 }
 
+int poly_gpu_detail::carveout_choice()
+{
+  return state.options.carveout;
+}
+
 int poly_gpu_detail::wall_kernel_choice()
 {
   return state.options.wall_kernel;
@@ -702,8 +707,8 @@ extern "C" int poly_gpu_environment(poly_gpu_options *options, char *message, si
                   message_size) ||
       read_choice("POLY_GPU_MIXED_CLIP", clip_precisions, kernel_values, 2, "single or double", &options->mixed_clip,
                   message, message_size) ||
-      read_choice("POLY_GPU_CLIP_CARVEOUT", carveouts, kernel_values, 2, "tight or driver", &options->clip_carveout,
-                  message, message_size) ||
+      read_choice("POLY_GPU_CARVEOUT", carveouts, kernel_values, 2, "tight or driver", &options->carveout, message,
+                  message_size) ||
       read_count("POLY_GPU_MIN_PAIRS", POLY_GPU_DEFAULT_MIN_PAIRS, &options->min_pairs, message, message_size) ||
       read_count("POLY_GPU_MIN_PIECES", POLY_GPU_DEFAULT_MIN_PIECES, &options->min_pieces, message, message_size))
     return -1;
@@ -795,17 +800,12 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
                                    (int)(POLY_CLIP_WARPS * single.bytes)), "cudaFuncSetAttribute", message,
               message_size)))
     return false;
-  if (state.any_pieces && state.options.clip_carveout != 2) {  // POLY_GPU_CLIP_CARVEOUT=driver leaves it as it was
-    const int carveout_d = clip_warp_carveout(POLY_CLIP_WARPS * limits.bytes + reserved_per_block, shared_per_sm),
-              carveout_f = clip_warp_carveout(POLY_CLIP_WARPS * single.bytes + reserved_per_block, shared_per_sm);
-    if ((carveout_d >= 0 &&
-         !check(cudaFuncSetAttribute(clip_warp_kernel<double>, cudaFuncAttributePreferredSharedMemoryCarveout,
-                                     carveout_d), "cudaFuncSetAttribute", message, message_size)) ||
-        (carveout_f >= 0 &&
-         !check(cudaFuncSetAttribute(clip_warp_kernel<float>, cudaFuncAttributePreferredSharedMemoryCarveout,
-                                     carveout_f), "cudaFuncSetAttribute", message, message_size)))
-      return false;
-  }
+  if (state.any_pieces &&
+      (!tight_carveout(clip_warp_kernel<double>, 32 * POLY_CLIP_WARPS, POLY_CLIP_WARPS * limits.bytes, message,
+                       message_size) ||
+       !tight_carveout(clip_warp_kernel<float>, 32 * POLY_CLIP_WARPS, POLY_CLIP_WARPS * single.bytes, message,
+                       message_size)))
+    return false;
   std::vector<poly_clip_faces> clip(num_shapes);
   for (int i = 0; i < num_shapes; i++) {
     poly_clip_faces &f = clip[i];

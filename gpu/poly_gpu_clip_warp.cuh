@@ -104,26 +104,6 @@ static inline void clip_warp_pairs(ClipWarpLimits *limits, size_t shared_per_sm,
   }
 }
 
-/* The carveout (percent of `shared_per_sm`, the SM's shared memory at most) for blocks of `block` bytes: the smallest
- * of the SM's shared-memory configurations that holds POLY_CLIP_WARP_MIN_BLOCKS of them, so that the rest is L1
- * cache for the lanes' local memory, which the kernel waits on; left to the driver, the Schoenhardt bed mix's blocks
- * (4 x 25.2 KB) got 132 KB of shared memory instead of 100, and its pairs ran 5 % slower (doc/benchmarks.md). The
- * configurations are those of compute capability 8.x and 9.0 (CUDA C++ Programming Guide: 0, 8, 16, 32, 64, 100,
- * 132, 164, 196, 228 KB, up to the SM's); the percent is rounded down, since the driver takes the smallest
- * configuration at least that share (as measured), and no two are within 1 % of 228 KB of each other. -1 (the
- * driver's choice) where none holds the blocks. */
-static inline int clip_warp_carveout(size_t block, size_t shared_per_sm)
-{
-  static const int kilobytes[] = {8, 16, 32, 64, 100, 132, 164, 196, 228};
-  const size_t needed = POLY_CLIP_WARP_MIN_BLOCKS * block;
-  for (int k = 0; k < (int)(sizeof kilobytes / sizeof kilobytes[0]); k++) {
-    const size_t config = (size_t)kilobytes[k] * 1024;
-    if (config > shared_per_sm) break;
-    if (config >= needed) return (int)(100 * config / shared_per_sm);
-  }
-  return -1;
-}
-
 /* Item: a face of one body, which body (of_a), and the other body's piece that clips it. */
 static __device__ __forceinline__ int clip_item(int face, int of_a, int piece)
 {

@@ -111,7 +111,7 @@ def test_gpu_style_without_gpu_is_a_clear_error(run_deck):
     ("POLY_GPU_WALL_KERNEL", "lanes", "POLY_GPU_WALL_KERNEL=lanes: expected thread or warp"),
     ("POLY_GPU_CLIP_KERNEL", "block", "POLY_GPU_CLIP_KERNEL=block: expected thread or warp"),
     ("POLY_GPU_MIXED_CLIP", "half", "POLY_GPU_MIXED_CLIP=half: expected single or double"),
-    ("POLY_GPU_CLIP_CARVEOUT", "50", "POLY_GPU_CLIP_CARVEOUT=50: expected tight or driver"),
+    ("POLY_GPU_CARVEOUT", "50", "POLY_GPU_CARVEOUT=50: expected tight or driver"),
     ("POLY_GPU_MIN_PAIRS", "-3", "POLY_GPU_MIN_PAIRS=-3: expected a whole number, 0 or more"),
     ("POLY_GPU_MIN_PIECES", "1e3", "POLY_GPU_MIN_PIECES=1e3: expected a whole number, 0 or more")])
 def test_bad_contact_kernel_choice_is_a_clear_error(run_deck, monkeypatch, variable, value, expected):
