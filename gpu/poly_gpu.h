@@ -147,8 +147,9 @@ typedef struct poly_gpu_options {
   int wall_kernel;               /* POLY_GPU_WALL_KERNEL = thread | warp: 1, 2 (0 unset: chosen from the shapes) */
   int mixed_clip;                /* POLY_GPU_MIXED_CLIP = single | double: 1, 2 (0 unset: double), the warp clipping
                                     kernel's faces in mixed precision (single injects energy into packed beds) */
-  int carveout;                  /* POLY_GPU_CARVEOUT = tight | driver: 1, 2 (0 unset: tight), the warp kernels' shared
-                                    memory: the least configuration that holds their blocks, or the driver's choice */
+  int carveout;                  /* POLY_GPU_CARVEOUT = tight | driver: 1, 2 (0 unset: tight), the clipping warp
+                                    kernel's shared memory: the least configuration that holds its blocks, or the
+                                    driver's choice */
   long min_pairs;                /* POLY_GPU_MIN_PAIRS: fewer neighbour-list pairs on a rank (one in contact counting
                                     32): its pairs on the host until the next rebuild */
   long min_pieces;               /* POLY_GPU_MIN_PIECES: fewer mesh-wall pieces in a step: on the host */

@@ -104,7 +104,8 @@ static inline void clip_warp_pairs(ClipWarpLimits *limits, size_t shared_per_sm,
   }
 }
 
-/* Item: a face of one body, which body (of_a), and the other body's piece that clips it. */
+/* Item: a face of one body, which body (of_a), and the other body's piece that clips it; 16 bits in the warp's block. */
+static_assert(POLY_CLIP_MAX_FACES <= 128 && POLY_CLIP_MAX_PIECES <= 256, "clip_item codes must fit 16 bits");
 static __device__ __forceinline__ int clip_item(int face, int of_a, int piece)
 {
   return (piece << 8) | (of_a << 7) | face;

@@ -260,7 +260,10 @@ inline int least_carveout(size_t needed, size_t shared_per_sm)
 int carveout_choice();  // POLY_GPU_CARVEOUT: 0 unset or 1 tight, 2 driver
 
 // Asks for the least configuration that holds as many blocks of `kernel` (`threads` threads and `shared` bytes of
-// dynamic shared memory each) as an SM runs at once, unless POLY_GPU_CARVEOUT=driver.
+// dynamic shared memory each) as an SM runs at once, unless POLY_GPU_CARVEOUT=driver. Called once, when the shapes
+// are uploaded, for the clipping warp kernel only: the pair and wall warp kernels measured no gain from it (their
+// blocks in global memory) and warp_launch, which runs every step, would pay its runtime calls. The query runs with
+// the most shared memory asked for, so that a carveout left by an earlier upload (of smaller shapes) cannot bound it.
 template <typename Kernel>
 inline bool tight_carveout(Kernel kernel, int threads, size_t shared, char *message, size_t size)
 {
@@ -271,6 +274,8 @@ inline bool tight_carveout(Kernel kernel, int threads, size_t shared, char *mess
              "cudaDeviceGetAttribute", message, size) ||
       !check(cudaDeviceGetAttribute(&reserved, cudaDevAttrReservedSharedMemoryPerBlock, device),
              "cudaDeviceGetAttribute", message, size) ||
+      !check(cudaFuncSetAttribute(kernel, cudaFuncAttributePreferredSharedMemoryCarveout,
+                                  (int)cudaSharedmemCarveoutMaxShared), "cudaFuncSetAttribute", message, size) ||
       !check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, kernel, threads, shared),
              "cudaOccupancyMaxActiveBlocksPerMultiprocessor", message, size))
     return false;
@@ -294,10 +299,9 @@ inline bool warp_launch(Kernel kernel, const WarpLimits &limits, WarpLaunch *lau
     launch->threads /= 2;
   launch->groups = launch->threads / limits.lanes;
   launch->shared = (size_t)launch->groups * limits.bytes;
-  return (launch->shared <= 48 * 1024 ||
-          check(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)launch->shared),
-                "warp kernel shared memory", message, size)) &&
-         tight_carveout(kernel, launch->threads, launch->shared, message, size);
+  return launch->shared <= 48 * 1024 ||
+         check(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)launch->shared),
+               "warp kernel shared memory", message, size);
 }
 
 // The shapes uploaded by poly_gpu_init (NULL before it).

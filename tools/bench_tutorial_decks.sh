@@ -14,8 +14,9 @@
 # movingMeshGran and a 0.15 s hopper, about 20 s. chute_wear (only when named): the tutorial's stream onto a static
 # mesh chute, converted by tools/convert_deck.py to FILE (schoenhardt.stl) of the spheres' volume, the first C
 # steps (40000, about a minute). For movingMeshGran and chute_wear also where the rocks' pair evaluations went
-# (compute pair/polyhedral/local's vector 4-8, printed by a `run 0` appended to the converted deck): skipped by
-# their parting plane, contacts, parted early, near misses. BENCH_LAUNCHER=path runs another build's
+# (compute pair/polyhedral/local's vector 4-10, printed by a `run 0` appended to the converted deck): skipped by
+# their parting plane, contacts, parted early, near misses, those from the crossing cache; and by a second `run 0`
+# the contacts at several spots (element 11). BENCH_LAUNCHER=path runs another build's
 # liggghts-poly (before/after).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
