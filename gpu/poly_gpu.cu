@@ -635,11 +635,6 @@ WarpLimits poly_gpu_detail::warp_limits(int precision, int min_vertices, int min
                                                                                     min_edges);
 }
 
-int poly_gpu_detail::carveout_choice()
-{
-  return state.options.carveout;
-}
-
 int poly_gpu_detail::wall_kernel_choice()
 {
   return state.options.wall_kernel;
@@ -800,11 +795,11 @@ static bool upload_clip_faces(int num_shapes, const poly_shape *const *shapes, c
                                    (int)(POLY_CLIP_WARPS * single.bytes)), "cudaFuncSetAttribute", message,
               message_size)))
     return false;
-  if (state.any_pieces &&
-      (!tight_carveout(clip_warp_kernel<double>, 32 * POLY_CLIP_WARPS, POLY_CLIP_WARPS * limits.bytes, message,
-                       message_size) ||
-       !tight_carveout(clip_warp_kernel<float>, 32 * POLY_CLIP_WARPS, POLY_CLIP_WARPS * single.bytes, message,
-                       message_size)))
+  if (state.any_pieces && state.options.carveout != 2 &&  // POLY_GPU_CARVEOUT=driver: the driver's choice
+      (!clip_warp_carveout(clip_warp_kernel<double>, 32 * POLY_CLIP_WARPS, POLY_CLIP_WARPS * limits.bytes,
+                           (size_t)shared_per_sm, (size_t)reserved_per_block, message, message_size) ||
+       !clip_warp_carveout(clip_warp_kernel<float>, 32 * POLY_CLIP_WARPS, POLY_CLIP_WARPS * single.bytes,
+                           (size_t)shared_per_sm, (size_t)reserved_per_block, message, message_size)))
     return false;
   std::vector<poly_clip_faces> clip(num_shapes);
   for (int i = 0; i < num_shapes; i++) {

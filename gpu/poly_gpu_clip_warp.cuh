@@ -104,7 +104,46 @@ static inline void clip_warp_pairs(ClipWarpLimits *limits, size_t shared_per_sm,
   }
 }
 
-/* Item: a face of one body, which body (of_a), and the other body's piece that clips it; 16 bits in the warp's block. */
+/* The least of the SM's shared-memory configurations that holds `needed` bytes, as the carveout percent of
+ * `shared_per_sm` (the SM's shared memory at most), or -1 where none does: the rest of the SM's memory is L1 cache,
+ * which the lanes' local memory goes through (left to the driver, the kernel's blocks got 132 KiB instead of 100 and
+ * its pairs ran 5-7 % slower: doc/benchmarks.md). The configurations of compute capability 8.x and 9.0 (CUDA C++
+ * Programming Guide), up to the SM's; the percent is rounded down, as the driver takes the smallest configuration at
+ * least that share (measured), and no two are within 1 % of 228 KiB. */
+static inline int least_carveout(size_t needed, size_t shared_per_sm)
+{
+  static const int kilobytes[] = {8, 16, 32, 64, 100, 132, 164, 196, 228};
+  for (int k = 0; k < (int)(sizeof kilobytes / sizeof kilobytes[0]); k++) {
+    const size_t config = (size_t)kilobytes[k] * 1024;
+    if (config > shared_per_sm) break;
+    if (config >= needed) return (int)(100 * config / shared_per_sm);
+  }
+  return -1;
+}
+
+/* Asks for the least configuration that holds as many blocks of `kernel` (`threads` threads and `shared` bytes of
+ * dynamic shared memory each, `reserved_per_block` more the driver's) as an SM runs at once. The occupancy query runs
+ * with the most shared memory asked for, so that a carveout left by an earlier upload (of smaller shapes) cannot
+ * bound it. Once, when the shapes are uploaded: the pair and wall warp kernels measured no gain from it (their blocks
+ * in global memory), and their launches run every step. */
+template <typename Kernel>
+static bool clip_warp_carveout(Kernel kernel, int threads, size_t shared, size_t shared_per_sm,
+                               size_t reserved_per_block, char *message, size_t size)
+{
+  using poly_gpu_detail::check;  // (poly_gpu.cu's `using namespace` comes after this file)
+  int blocks = 0;
+  if (!check(cudaFuncSetAttribute(kernel, cudaFuncAttributePreferredSharedMemoryCarveout,
+                                  (int)cudaSharedmemCarveoutMaxShared), "cudaFuncSetAttribute", message, size) ||
+      !check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, kernel, threads, shared),
+             "cudaOccupancyMaxActiveBlocksPerMultiprocessor", message, size))
+    return false;
+  const int carveout = least_carveout((size_t)blocks * (shared + reserved_per_block), shared_per_sm);
+  return carveout < 0 || check(cudaFuncSetAttribute(kernel, cudaFuncAttributePreferredSharedMemoryCarveout, carveout),
+                               "cudaFuncSetAttribute", message, size);
+}
+
+/* Item: a face of one body, which body (of_a), and the other body's piece that clips it; 16 bits in the warp's
+ * block. */
 static_assert(POLY_CLIP_MAX_FACES <= 128 && POLY_CLIP_MAX_PIECES <= 256, "clip_item codes must fit 16 bits");
 static __device__ __forceinline__ int clip_item(int face, int of_a, int piece)
 {

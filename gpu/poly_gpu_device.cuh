@@ -240,50 +240,6 @@ __device__ inline bool beyond_limits(const DeviceShapes &shapes, int shape, cons
   return c[0] > limits.vertices || c[1] > limits.triangles || c[2] > limits.edges;
 }
 
-// The least of the SM's shared-memory configurations that holds `needed` bytes, as the carveout percent of
-// `shared_per_sm` (the SM's shared memory at most), or -1 where none does: the rest of the SM's memory is L1 cache,
-// which the kernels' local memory and blocks in global memory go through (left to the driver, the clipping warp
-// kernel's blocks got 132 KiB instead of 100 and its pairs ran 5-7 % slower: doc/benchmarks.md). The configurations
-// of compute capability 8.x and 9.0 (CUDA C++ Programming Guide), up to the SM's; the percent is rounded down, as the
-// driver takes the smallest configuration at least that share (measured), and no two are within 1 % of 228 KiB.
-inline int least_carveout(size_t needed, size_t shared_per_sm)
-{
-  static const int kilobytes[] = {8, 16, 32, 64, 100, 132, 164, 196, 228};
-  for (int k = 0; k < (int)(sizeof kilobytes / sizeof kilobytes[0]); k++) {
-    const size_t config = (size_t)kilobytes[k] * 1024;
-    if (config > shared_per_sm) break;
-    if (config >= needed) return (int)(100 * config / shared_per_sm);
-  }
-  return -1;
-}
-
-int carveout_choice();  // POLY_GPU_CARVEOUT: 0 unset or 1 tight, 2 driver
-
-// Asks for the least configuration that holds as many blocks of `kernel` (`threads` threads and `shared` bytes of
-// dynamic shared memory each) as an SM runs at once, unless POLY_GPU_CARVEOUT=driver. Called once, when the shapes
-// are uploaded, for the clipping warp kernel only: the pair and wall warp kernels measured no gain from it (their
-// blocks in global memory) and warp_launch, which runs every step, would pay its runtime calls. The query runs with
-// the most shared memory asked for, so that a carveout left by an earlier upload (of smaller shapes) cannot bound it.
-template <typename Kernel>
-inline bool tight_carveout(Kernel kernel, int threads, size_t shared, char *message, size_t size)
-{
-  if (carveout_choice() == 2) return true;
-  int device = 0, shared_per_sm = 0, reserved = 0, blocks = 0;
-  if (!check(cudaGetDevice(&device), "cudaGetDevice", message, size) ||
-      !check(cudaDeviceGetAttribute(&shared_per_sm, cudaDevAttrMaxSharedMemoryPerMultiprocessor, device),
-             "cudaDeviceGetAttribute", message, size) ||
-      !check(cudaDeviceGetAttribute(&reserved, cudaDevAttrReservedSharedMemoryPerBlock, device),
-             "cudaDeviceGetAttribute", message, size) ||
-      !check(cudaFuncSetAttribute(kernel, cudaFuncAttributePreferredSharedMemoryCarveout,
-                                  (int)cudaSharedmemCarveoutMaxShared), "cudaFuncSetAttribute", message, size) ||
-      !check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, kernel, threads, shared),
-             "cudaOccupancyMaxActiveBlocksPerMultiprocessor", message, size))
-    return false;
-  const int carveout = least_carveout((size_t)blocks * (shared + (size_t)reserved), (size_t)shared_per_sm);
-  return carveout < 0 || check(cudaFuncSetAttribute(kernel, cudaFuncAttributePreferredSharedMemoryCarveout, carveout),
-                               "cudaFuncSetAttribute", message, size);
-}
-
 // A warp kernel's launch: blocks of whole warps, as many groups of limits.lanes lanes as kWarpBlockBytes holds
 // (at most kThreads lanes), each group with its block of limits.bytes of shared memory; lets the kernel use
 // more than the default 48 KiB where it needs to.
